@@ -1,0 +1,49 @@
+#pragma once
+/// Flattening: instantiate one class of a set of parsed files into a
+/// flat::Model — name lookup through packages, extends and imports;
+/// modifiers; array scalarisation; connect semantics; parameters evaluated.
+#include "mo/frontend/ast.hpp"
+#include "mo/frontend/diagnostics.hpp"
+#include "mo/frontend/flat.hpp"
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace mo::frontend {
+
+struct FlattenOptions {
+  /// Check that the model has as many equations as unknowns (Modelica's
+  /// counting rules); an unbalanced model is an error naming likely culprits.
+  bool check_balance = true;
+  /// Deepest component nesting accepted (guards against recursive models).
+  unsigned max_depth = 64;
+};
+
+/// The classes of every file given to the compiler, as one package tree.
+/// Files with `within P;` are placed inside package P.
+class Library {
+public:
+  Library();
+  ~Library();
+  Library(const Library &) = delete;
+  Library &operator=(const Library &) = delete;
+
+  /// Adds a parsed file; the library keeps it.
+  void add(std::unique_ptr<ast::StoredDefinition> file);
+  /// The top-level class names, in the order they were added.
+  std::vector<std::string> top_level_names() const;
+
+  struct Impl;
+  Impl &impl() { return *impl_; }
+
+private:
+  std::unique_ptr<Impl> impl_;
+};
+
+/// Flattens class `class_name` (a dotted path) of `lib`. Reports every
+/// problem to `diags`; returns null when there were errors.
+std::unique_ptr<flat::Model> flatten(Library &lib, const std::string &class_name,
+                                     DiagnosticEngine &diags, const FlattenOptions &options = {});
+
+} // namespace mo::frontend

@@ -1,0 +1,222 @@
+#include "mo/frontend/ast.hpp"
+
+#include <vector>
+
+namespace mo::frontend::ast {
+
+const char *op_text(Op op) {
+  switch (op) {
+  case Op::Add: return "+";
+  case Op::Sub: return "-";
+  case Op::Mul: return "*";
+  case Op::Div: return "/";
+  case Op::Pow: return "^";
+  case Op::ElemAdd: return ".+";
+  case Op::ElemSub: return ".-";
+  case Op::ElemMul: return ".*";
+  case Op::ElemDiv: return "./";
+  case Op::ElemPow: return ".^";
+  case Op::Lt: return "<";
+  case Op::Le: return "<=";
+  case Op::Gt: return ">";
+  case Op::Ge: return ">=";
+  case Op::Eq: return "==";
+  case Op::Ne: return "<>";
+  case Op::And: return "and";
+  case Op::Or: return "or";
+  case Op::Neg: return "-";
+  case Op::Plus: return "+";
+  case Op::Not: return "not";
+  }
+  return "?";
+}
+
+const char *variability_text(Variability v) {
+  switch (v) {
+  case Variability::Continuous: return "";
+  case Variability::Discrete: return "discrete";
+  case Variability::Parameter: return "parameter";
+  case Variability::Constant: return "constant";
+  }
+  return "";
+}
+
+const char *restriction_text(Restriction r) {
+  switch (r) {
+  case Restriction::Class: return "class";
+  case Restriction::Model: return "model";
+  case Restriction::Record: return "record";
+  case Restriction::OperatorRecord: return "operator record";
+  case Restriction::Block: return "block";
+  case Restriction::Connector: return "connector";
+  case Restriction::ExpandableConnector: return "expandable connector";
+  case Restriction::Type: return "type";
+  case Restriction::Package: return "package";
+  case Restriction::Function: return "function";
+  case Restriction::Operator: return "operator";
+  case Restriction::Optimization: return "optimization";
+  }
+  return "class";
+}
+
+/// Moves every child out of `e` into `out` (used by the iterative destructor
+/// and clone).
+static void take_children(Expr &e, std::vector<ExprPtr> &out) {
+  for (auto &a : e.args)
+    if (a) out.push_back(std::move(a));
+  for (auto &n : e.named)
+    if (n.value) out.push_back(std::move(n.value));
+  for (auto &it : e.iterators)
+    if (it.range) out.push_back(std::move(it.range));
+  for (auto &row : e.rows)
+    for (auto &x : row)
+      if (x) out.push_back(std::move(x));
+  for (auto &p : e.ref.parts)
+    for (auto &s : p.subscripts)
+      if (s) out.push_back(std::move(s));
+}
+
+// Deep trees (long flow sums, nested ifs) must not overflow the stack when
+// freed: children are detached and freed from an explicit work list.
+Expr::~Expr() {
+  std::vector<ExprPtr> pending;
+  take_children(*this, pending);
+  while (!pending.empty()) {
+    ExprPtr e = std::move(pending.back());
+    pending.pop_back();
+    take_children(*e, pending);
+  }
+}
+
+ExprPtr Expr::clone() const {
+  // Iterative deep copy: a work list of (source, destination) pairs.
+  auto root = std::make_unique<Expr>(kind, range);
+  std::vector<std::pair<const Expr *, Expr *>> work{{this, root.get()}};
+  auto copy = [&work](const ExprPtr &src) -> ExprPtr {
+    if (!src) return nullptr;
+    auto dst = std::make_unique<Expr>(src->kind, src->range);
+    work.emplace_back(src.get(), dst.get());
+    return dst;
+  };
+  while (!work.empty()) {
+    auto [src, dst] = work.back();
+    work.pop_back();
+    dst->op = src->op;
+    dst->number = src->number;
+    dst->var = src->var;
+    dst->text = src->text;
+    dst->ref.global = src->ref.global;
+    for (const auto &p : src->ref.parts) {
+      RefPart part{p.name, {}};
+      for (const auto &s : p.subscripts)
+        part.subscripts.push_back(copy(s));
+      dst->ref.parts.push_back(std::move(part));
+    }
+    for (const auto &a : src->args)
+      dst->args.push_back(copy(a));
+    for (const auto &n : src->named)
+      dst->named.push_back(NamedArg{n.name, copy(n.value)});
+    for (const auto &it : src->iterators)
+      dst->iterators.push_back(ForIndex{it.name, copy(it.range), it.loc});
+    for (const auto &row : src->rows) {
+      std::vector<ExprPtr> r;
+      for (const auto &x : row)
+        r.push_back(copy(x));
+      dst->rows.push_back(std::move(r));
+    }
+  }
+  return root;
+}
+
+ExprPtr make_real(double v, SourceRange r) {
+  auto e = std::make_unique<Expr>(ExprKind::Real, r);
+  e->number = v;
+  return e;
+}
+ExprPtr make_integer(double v, SourceRange r) {
+  auto e = std::make_unique<Expr>(ExprKind::Integer, r);
+  e->number = v;
+  return e;
+}
+ExprPtr make_bool(bool v, SourceRange r) {
+  auto e = std::make_unique<Expr>(ExprKind::Boolean, r);
+  e->number = v ? 1 : 0;
+  return e;
+}
+ExprPtr make_ref(std::string name, SourceRange r) {
+  auto e = std::make_unique<Expr>(ExprKind::Ref, r);
+  e->ref.parts.push_back(RefPart{std::move(name), {}});
+  return e;
+}
+ExprPtr make_unary(Op op, ExprPtr a, SourceRange r) {
+  auto e = std::make_unique<Expr>(ExprKind::Unary, r);
+  e->op = op;
+  e->args.push_back(std::move(a));
+  return e;
+}
+ExprPtr make_binary(Op op, ExprPtr a, ExprPtr b, SourceRange r) {
+  auto e = std::make_unique<Expr>(ExprKind::Binary, r);
+  e->op = op;
+  e->args.push_back(std::move(a));
+  e->args.push_back(std::move(b));
+  return e;
+}
+ExprPtr make_call(std::string fn, std::vector<ExprPtr> args, SourceRange r) {
+  auto e = std::make_unique<Expr>(ExprKind::Call, r);
+  e->ref.parts.push_back(RefPart{std::move(fn), {}});
+  e->args = std::move(args);
+  return e;
+}
+
+std::string TypeName::str() const {
+  std::string s = global ? "." : "";
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    s += (i ? "." : "") + parts[i];
+  return s;
+}
+
+std::string unescape_string(std::string_view body) {
+  std::string out;
+  out.reserve(body.size());
+  for (std::size_t i = 0; i < body.size(); ++i) {
+    char c = body[i];
+    if (c != '\\' || i + 1 == body.size()) {
+      out += c;
+      continue;
+    }
+    char n = body[++i];
+    switch (n) {
+    case 'n': out += '\n'; break;
+    case 't': out += '\t'; break;
+    case 'r': out += '\r'; break;
+    case 'a': out += '\a'; break;
+    case 'b': out += '\b'; break;
+    case 'f': out += '\f'; break;
+    case 'v': out += '\v'; break;
+    default: out += n; break; // \" \' \? \\ and anything else: the character
+    }
+  }
+  return out;
+}
+
+std::string escape_string(std::string_view s) {
+  std::string out;
+  out.reserve(s.size());
+  for (char c : s) {
+    switch (c) {
+    case '"': out += "\\\""; break;
+    case '\\': out += "\\\\"; break;
+    case '\n': out += "\\n"; break;
+    case '\t': out += "\\t"; break;
+    case '\r': out += "\\r"; break;
+    case '\a': out += "\\a"; break;
+    case '\b': out += "\\b"; break;
+    case '\f': out += "\\f"; break;
+    case '\v': out += "\\v"; break;
+    default: out += c; break; // other bytes are valid inside a Modelica string
+    }
+  }
+  return out;
+}
+
+} // namespace mo::frontend::ast

@@ -1,0 +1,71 @@
+#pragma once
+// Converts the ANTLR parse tree into our AST. Internal to the frontend.
+#include "ModelicaParser.h"
+#include "mo/frontend/ast.hpp"
+#include "mo/frontend/diagnostics.hpp"
+
+namespace mo::frontend::detail {
+
+namespace g = mo::frontend::grammar;
+
+/// Builds ast nodes from a parse tree that has no syntax errors.
+class AstBuilder {
+public:
+  AstBuilder(FileId file, std::string_view text, DiagnosticEngine &diags)
+      : file_(file), text_(text), diags_(diags) {}
+
+  std::unique_ptr<ast::StoredDefinition> build(g::ModelicaParser::Stored_definitionContext *ctx);
+
+private:
+  using P = g::ModelicaParser;
+  FileId file_;
+  std::string_view text_;
+  DiagnosticEngine &diags_;
+
+  SourceRange range(antlr4::Token *t) const;
+  SourceRange range(antlr4::ParserRuleContext *ctx) const;
+  SourceRange range(antlr4::tree::TerminalNode *n) const { return range(n->getSymbol()); }
+  std::string text(antlr4::Token *t) const;
+  std::string ident(antlr4::tree::TerminalNode *n) const;
+
+  ast::ClassPtr class_definition(P::Class_definitionContext *ctx);
+  void composition(P::CompositionContext *ctx, ast::ClassDef &cls);
+  void element_list(P::Element_listContext *ctx, ast::ClassDef &cls, bool is_protected);
+  void element(P::ElementContext *ctx, ast::ClassDef &cls, bool is_protected);
+  void component_clause(P::Component_clauseContext *ctx, ast::ClassDef &cls, bool is_protected,
+                        P::ElementContext *prefixes);
+  ast::Import import_clause(P::Import_clauseContext *ctx);
+  ast::TypeName type_specifier(P::Type_specifierContext *ctx);
+  std::vector<std::string> name(P::NameContext *ctx);
+  ast::Modification modification(P::ModificationContext *ctx);
+  ast::Modification class_modification(P::Class_modificationContext *ctx);
+  ast::ElementMod argument(P::ArgumentContext *ctx);
+  std::string string_comment(P::String_commentContext *ctx);
+  std::string comment(P::CommentContext *ctx);
+
+  ast::Equation equation(P::EquationContext *ctx);
+  ast::Equation constraint(P::ConstraintContext *ctx);
+  std::vector<ast::ForIndex> for_indices(P::For_indicesContext *ctx);
+
+  ast::ExprPtr expression(P::ExpressionContext *ctx);
+  ast::ExprPtr simple_expression(P::Simple_expressionContext *ctx);
+  ast::ExprPtr logical_expression(P::Logical_expressionContext *ctx);
+  ast::ExprPtr logical_term(P::Logical_termContext *ctx);
+  ast::ExprPtr logical_factor(P::Logical_factorContext *ctx);
+  ast::ExprPtr relation(P::RelationContext *ctx);
+  ast::ExprPtr arithmetic_expression(P::Arithmetic_expressionContext *ctx);
+  ast::ExprPtr term(P::TermContext *ctx);
+  ast::ExprPtr factor(P::FactorContext *ctx);
+  ast::ExprPtr primary(P::PrimaryContext *ctx);
+  ast::ExprPtr number(antlr4::tree::TerminalNode *n);
+  ast::ExprPtr call(P::CallPrimaryContext *ctx);
+  void function_arguments(P::Function_argumentsContext *ctx, ast::Expr &call);
+  void function_arguments_non_first(P::Function_arguments_non_firstContext *ctx, ast::Expr &call);
+  void named_arguments(P::Named_argumentsContext *ctx, ast::Expr &call);
+  ast::ExprPtr function_argument(P::Function_argumentContext *ctx);
+  ast::ComponentRef component_reference(P::Component_referenceContext *ctx);
+  std::vector<ast::ExprPtr> array_subscripts(P::Array_subscriptsContext *ctx);
+  ast::ExprPtr ref_expr(P::Component_referenceContext *ctx);
+};
+
+} // namespace mo::frontend::detail

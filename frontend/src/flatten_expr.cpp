@@ -1,0 +1,836 @@
+// Flattening expressions: names resolved to flat variables, arrays
+// scalarised into tensors of scalar expressions, constants substituted.
+#include "flattener.hpp"
+#include "mo/frontend/printer.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+namespace mo::frontend::detail {
+
+using ast::Expr;
+using ast::ExprKind;
+using ast::ExprPtr;
+using ast::Op;
+
+namespace {
+
+std::string dims_text(const std::vector<int> &dims) {
+  std::string s = "[";
+  for (std::size_t i = 0; i < dims.size(); ++i)
+    s += (i ? ", " : "") + std::to_string(dims[i]);
+  return s + "]";
+}
+
+ExprPtr literal(double v, SourceRange r, bool integer = false) {
+  return integer ? ast::make_integer(v, r) : ast::make_real(v, r);
+}
+
+bool is_literal(const Expr &e) {
+  return e.kind == ExprKind::Real || e.kind == ExprKind::Integer || e.kind == ExprKind::Boolean;
+}
+
+struct BuiltinInfo {
+  const char *name;
+  int min_args, max_args;
+  bool elementwise; ///< applies to each element of array arguments
+};
+
+// Built-in functions kept as calls in the flat model.
+constexpr BuiltinInfo kBuiltins[] = {
+    {"sin", 1, 1, true},   {"cos", 1, 1, true},     {"tan", 1, 1, true},    {"asin", 1, 1, true},
+    {"acos", 1, 1, true},  {"atan", 1, 1, true},    {"sinh", 1, 1, true},   {"cosh", 1, 1, true},
+    {"tanh", 1, 1, true},  {"exp", 1, 1, true},     {"log", 1, 1, true},    {"log10", 1, 1, true},
+    {"sqrt", 1, 1, true},  {"abs", 1, 1, true},     {"sign", 1, 1, true},   {"floor", 1, 1, true},
+    {"ceil", 1, 1, true},  {"integer", 1, 1, true}, {"noEvent", 1, 1, true}, {"pre", 1, 1, true},
+    {"edge", 1, 1, true},  {"change", 1, 1, true},  {"der", 1, 1, true},    {"atan2", 2, 2, true},
+    {"div", 2, 2, true},   {"mod", 2, 2, true},     {"rem", 2, 2, true},    {"smooth", 2, 2, false},
+    {"initial", 0, 0, false}, {"terminal", 0, 0, false}, {"sample", 2, 2, false},
+    {"delay", 2, 3, false},
+};
+
+const BuiltinInfo *find_builtin(const std::string &n) {
+  for (const auto &b : kBuiltins)
+    if (n == b.name)
+      return &b;
+  return nullptr;
+}
+
+} // namespace
+
+// ------------------------------------------------------------------ lookup
+
+/// Instances selected by `subs` from `a`: all elements for no subscripts on
+/// an array, the instance itself for a scalar.
+static void select(Flattener &f, Instance *a, const std::vector<ExprPtr> &subs, const Scope &s,
+                   SourceRange where, std::vector<int> &dims, std::vector<Instance *> &out) {
+  if (subs.empty()) {
+    if (a->dims.empty()) {
+      out.push_back(a);
+    } else {
+      dims.insert(dims.end(), a->dims.begin(), a->dims.end());
+      for (auto &el : a->elements)
+        out.push_back(el.get());
+    }
+    return;
+  }
+  if (subs.size() != a->dims.size())
+    f.fail(DiagId::BadSubscript, where,
+           fmt::format("'{}' has {} dimension(s) but {} subscript(s) are given", a->flat,
+                       a->dims.size(), subs.size()));
+  std::vector<std::vector<int>> picks(subs.size());
+  for (std::size_t i = 0; i < subs.size(); ++i) {
+    const Expr &sub = *subs[i];
+    if (sub.kind == ExprKind::Colon) {
+      for (int k = 1; k <= a->dims[i]; ++k)
+        picks[i].push_back(k);
+      dims.push_back(a->dims[i]);
+      continue;
+    }
+    LoopEnv env = s.env ? *s.env : LoopEnv{};
+    env.values.emplace_back("end", a->dims[i]);
+    Scope sub_scope = s;
+    sub_scope.env = &env;
+    Tensor t = f.expr(sub, sub_scope);
+    for (auto &e : t.elems) {
+      double v = f.eval(*e, sub.range);
+      if (v != std::floor(v) || v < 1 || v > a->dims[i])
+        f.fail(DiagId::BadSubscript, sub.range,
+               fmt::format("subscript {} is out of bounds 1..{} of '{}'", v, a->dims[i], a->flat));
+      picks[i].push_back(static_cast<int>(v));
+    }
+    if (!t.is_scalar())
+      dims.push_back(static_cast<int>(t.elems.size()));
+  }
+  // Row-major combinations of the picked indices.
+  std::vector<std::size_t> pos(picks.size(), 0);
+  while (true) {
+    std::size_t flat_index = 0;
+    for (std::size_t i = 0; i < picks.size(); ++i)
+      flat_index = flat_index * a->dims[i] + (picks[i][pos[i]] - 1);
+    out.push_back(a->elements[flat_index].get());
+    std::size_t i = picks.size();
+    while (i-- > 0) {
+      if (++pos[i] < picks[i].size()) break;
+      pos[i] = 0;
+    }
+    if (i == static_cast<std::size_t>(-1)) break;
+  }
+}
+
+bool Flattener::resolve_instances(const ast::ComponentRef &ref, const Scope &s, SourceRange where,
+                                  std::vector<int> &dims, std::vector<Instance *> &out) {
+  if (ref.global || !s.inst)
+    return false;
+  auto it = s.inst->member_index.find(ref.parts[0].name);
+  if (it == s.inst->member_index.end())
+    return false;
+  select(*this, it->second, ref.parts[0].subscripts, s, where, dims, out);
+  for (std::size_t p = 1; p < ref.parts.size(); ++p) {
+    std::vector<Instance *> next;
+    std::vector<int> sub_dims;
+    for (Instance *inst : out) {
+      auto m = inst->member_index.find(ref.parts[p].name);
+      if (m == inst->member_index.end()) {
+        std::string what = inst->var >= 0 ? "a scalar" : "of type '" + (inst->decl ? inst->decl->type.str() : "?") + "'";
+        fail(DiagId::UnknownComponent, where,
+             "'" + inst->flat + "' (" + what + ") has no component '" + ref.parts[p].name + "'");
+      }
+      std::vector<int> d;
+      select(*this, m->second, ref.parts[p].subscripts, s, where, d, next);
+      sub_dims = d;
+    }
+    dims.insert(dims.end(), sub_dims.begin(), sub_dims.end());
+    out.swap(next);
+  }
+  return true;
+}
+
+/// A component named `name` declared in `cls` or inherited by it.
+static const ast::Component *find_component(Flattener &f, ClassNode *cls, const std::string &name,
+                                            ClassNode *&owner, unsigned depth = 0) {
+  if (!cls || !cls->def || depth > 32)
+    return nullptr;
+  for (const auto &c : cls->def->components)
+    if (c.name == name) {
+      owner = cls;
+      return &c;
+    }
+  for (auto &[ext, base] : f.bases(cls))
+    if (auto *c = find_component(f, base, name, owner, depth + 1))
+      return c;
+  return nullptr;
+}
+
+bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out) {
+  for (const auto &p : ref.parts)
+    if (!p.subscripts.empty())
+      return false;
+  const std::size_t n = ref.parts.size();
+  auto value_of = [&](ClassNode *owner, const ast::Component &c) {
+    if (c.variability != ast::Variability::Constant && c.variability != ast::Variability::Parameter)
+      fail(DiagId::NotConstant, where, "'" + ref.str() + "' is not a constant");
+    if (!c.mod.binding)
+      fail(DiagId::NotConstant, where, "constant '" + ref.str() + "' has no value");
+    Tensor t = expr(*c.mod.binding, Scope{nullptr, owner, nullptr});
+    for (auto &e : t.elems)
+      e = literal(eval(*e, where), where);
+    out = std::move(t);
+  };
+  if (n == 1) {
+    for (ClassNode *c = s.cls; c; c = c->parent) {
+      ClassNode *owner = nullptr;
+      if (const ast::Component *comp = find_component(*this, c, ref.parts[0].name, owner)) {
+        value_of(owner, *comp);
+        return true;
+      }
+    }
+    return false;
+  }
+  std::vector<std::string> path;
+  for (std::size_t i = 0; i + 1 < n; ++i)
+    path.push_back(ref.parts[i].name);
+  const std::string &last = ref.parts[n - 1].name;
+  if (path.size() == 1 && path[0] == "StateSelect") {
+    static const char *const kLevels[] = {"never", "avoid", "default", "prefer", "always"};
+    for (int i = 0; i < 5; ++i)
+      if (last == kLevels[i]) {
+        out = Tensor::scalar(literal(i + 1, where, true));
+        return true;
+      }
+  }
+  ClassNode *cls = lookup_class(s.cls ? s.cls : &lib_.root, path, ref.global, where, false);
+  if (!cls || !cls->def)
+    return false;
+  const auto &lits = cls->def->enumeration;
+  for (std::size_t i = 0; i < lits.size(); ++i)
+    if (lits[i] == last) {
+      out = Tensor::scalar(literal(static_cast<double>(i + 1), where, true));
+      return true;
+    }
+  ClassNode *owner = nullptr;
+  if (const ast::Component *comp = find_component(*this, cls, last, owner)) {
+    value_of(owner, *comp);
+    return true;
+  }
+  return false;
+}
+
+// ------------------------------------------------------------- expressions
+
+ExprPtr Flattener::scalar_expr(const Expr &e, const Scope &s) {
+  Tensor t = expr(e, s);
+  if (!t.is_scalar())
+    fail(DiagId::TypeMismatch, e.range, "expected a scalar, got an array of size " + dims_text(t.dims));
+  return std::move(t.elems[0]);
+}
+
+static Tensor elementwise(Tensor a, const std::function<ExprPtr(ExprPtr)> &fn) {
+  for (auto &e : a.elems)
+    e = fn(std::move(e));
+  return a;
+}
+
+static Tensor binary(Flattener &f, Op op, Tensor a, Tensor b, SourceRange r) {
+  auto pair = [&](ExprPtr x, ExprPtr y) { return ast::make_binary(op, std::move(x), std::move(y), r); };
+  Op scalar_op = op == Op::ElemAdd ? Op::Add : op == Op::ElemSub ? Op::Sub : op == Op::ElemMul ? Op::Mul
+               : op == Op::ElemDiv ? Op::Div : op == Op::ElemPow ? Op::Pow : op;
+  auto spair = [&](ExprPtr x, ExprPtr y) { return ast::make_binary(scalar_op, std::move(x), std::move(y), r); };
+  if (a.is_scalar() && b.is_scalar())
+    return Tensor::scalar(spair(std::move(a.elems[0]), std::move(b.elems[0])));
+  bool elementwise_op = op == Op::Add || op == Op::Sub || op == Op::ElemAdd || op == Op::ElemSub ||
+                        op == Op::ElemMul || op == Op::ElemDiv || op == Op::ElemPow ||
+                        op == Op::And || op == Op::Or;
+  if (a.dims == b.dims && elementwise_op) {
+    for (std::size_t i = 0; i < a.elems.size(); ++i)
+      a.elems[i] = spair(std::move(a.elems[i]), std::move(b.elems[i]));
+    return a;
+  }
+  bool broadcast = op == Op::Mul || op == Op::ElemMul || op == Op::ElemAdd || op == Op::ElemSub ||
+                   op == Op::ElemDiv || op == Op::ElemPow || op == Op::Div;
+  if (broadcast && b.is_scalar()) {
+    for (auto &e : a.elems)
+      e = spair(std::move(e), b.elems[0]->clone());
+    return a;
+  }
+  if (broadcast && a.is_scalar() && op != Op::Div) {
+    for (auto &e : b.elems)
+      e = spair(a.elems[0]->clone(), std::move(e));
+    return b;
+  }
+  if (op == Op::Mul) {
+    auto dot = [&](auto get_a, auto get_b, int n) {
+      ExprPtr sum;
+      for (int k = 0; k < n; ++k) {
+        ExprPtr term = ast::make_binary(Op::Mul, get_a(k), get_b(k), r);
+        sum = sum ? ast::make_binary(Op::Add, std::move(sum), std::move(term), r) : std::move(term);
+      }
+      return sum ? std::move(sum) : ast::make_real(0, r);
+    };
+    if (a.dims.size() == 1 && b.dims.size() == 1 && a.dims == b.dims)
+      return Tensor::scalar(dot([&](int k) { return a.elems[k]->clone(); },
+                                [&](int k) { return b.elems[k]->clone(); }, a.dims[0]));
+    if (a.dims.size() == 2 && b.dims.size() == 1 && a.dims[1] == b.dims[0]) {
+      Tensor t;
+      t.dims = {a.dims[0]};
+      for (int i = 0; i < a.dims[0]; ++i)
+        t.elems.push_back(dot([&](int k) { return a.elems[i * a.dims[1] + k]->clone(); },
+                              [&](int k) { return b.elems[k]->clone(); }, a.dims[1]));
+      return t;
+    }
+    if (a.dims.size() == 1 && b.dims.size() == 2 && a.dims[0] == b.dims[0]) {
+      Tensor t;
+      t.dims = {b.dims[1]};
+      for (int j = 0; j < b.dims[1]; ++j)
+        t.elems.push_back(dot([&](int k) { return a.elems[k]->clone(); },
+                              [&](int k) { return b.elems[k * b.dims[1] + j]->clone(); }, a.dims[0]));
+      return t;
+    }
+    if (a.dims.size() == 2 && b.dims.size() == 2 && a.dims[1] == b.dims[0]) {
+      Tensor t;
+      t.dims = {a.dims[0], b.dims[1]};
+      for (int i = 0; i < a.dims[0]; ++i)
+        for (int j = 0; j < b.dims[1]; ++j)
+          t.elems.push_back(dot([&](int k) { return a.elems[i * a.dims[1] + k]->clone(); },
+                                [&](int k) { return b.elems[k * b.dims[1] + j]->clone(); }, a.dims[1]));
+      return t;
+    }
+  }
+  f.fail(DiagId::TypeMismatch, r,
+         fmt::format("operator '{}' cannot combine sizes {} and {}", ast::op_text(op), dims_text(a.dims),
+                     dims_text(b.dims)));
+}
+
+Tensor Flattener::expr(const Expr &e, const Scope &s) {
+  switch (e.kind) {
+  case ExprKind::Real:
+  case ExprKind::Integer:
+  case ExprKind::Boolean:
+  case ExprKind::String:
+    return Tensor::scalar(e.clone());
+  case ExprKind::End:
+    if (s.env)
+      if (const double *v = s.env->find("end"))
+        return Tensor::scalar(literal(*v, e.range, true));
+    fail(DiagId::BadSubscript, e.range, "'end' is only allowed inside a subscript");
+  case ExprKind::Ref: {
+    if (e.ref.is_simple()) {
+      const std::string &n = e.ref.parts[0].name;
+      if (s.env)
+        if (const double *v = s.env->find(n))
+          return Tensor::scalar(literal(*v, e.range, true));
+      if (n == "time" && !(s.inst && s.inst->member_index.count(n)))
+        return Tensor::scalar(ast::make_ref("time", e.range));
+    }
+    std::vector<int> dims;
+    std::vector<Instance *> insts;
+    if (resolve_instances(e.ref, s, e.range, dims, insts)) {
+      Tensor t;
+      t.dims = dims;
+      for (Instance *inst : insts) {
+        if (inst->var < 0)
+          fail(DiagId::TypeMismatch, e.range,
+               "'" + inst->flat + "' is a component of type '" + (inst->decl ? inst->decl->type.str() : "?") +
+                   "', not a number; only scalar variables can be used in expressions");
+        const flat::Variable &v = model_->variables[inst->var];
+        if (v.variability == ast::Variability::Constant) {
+          t.elems.push_back(literal(eval_param(inst->var, e.range), e.range, v.type != flat::BaseType::Real));
+          continue;
+        }
+        auto r = ast::make_ref(v.name, e.range);
+        r->var = inst->var;
+        t.elems.push_back(std::move(r));
+      }
+      return t;
+    }
+    Tensor t;
+    if (lookup_constant(e.ref, s, e.range, t))
+      return t;
+    std::string where = s.inst && s.inst->decl ? " (in component '" + s.inst->flat + "')"
+                        : s.cls ? " (in class '" + s.cls->path() + "')" : "";
+    fail(DiagId::UnknownComponent, e.range, "unknown component '" + e.ref.str() + "'" + where);
+  }
+  case ExprKind::Call:
+    break; // below
+  case ExprKind::Unary: {
+    Tensor a = expr(*e.args[0], s);
+    if (e.op == Op::Plus)
+      return a;
+    return elementwise(std::move(a), [&](ExprPtr x) { return ast::make_unary(e.op, std::move(x), e.range); });
+  }
+  case ExprKind::Binary:
+    return binary(*this, e.op, expr(*e.args[0], s), expr(*e.args[1], s), e.range);
+  case ExprKind::If: {
+    // Conditions that are literal after flattening (loop indices) select a branch.
+    std::vector<ExprPtr> conds;
+    std::vector<Tensor> branches;
+    for (std::size_t i = 0; i + 1 < e.args.size(); i += 2) {
+      ExprPtr c = scalar_expr(*e.args[i], s);
+      if (is_literal(*c)) {
+        if (c->number != 0 && conds.empty())
+          return expr(*e.args[i + 1], s);
+        if (c->number == 0)
+          continue;
+      }
+      conds.push_back(std::move(c));
+      branches.push_back(expr(*e.args[i + 1], s));
+    }
+    Tensor result = expr(*e.args.back(), s);
+    for (std::size_t i = conds.size(); i-- > 0;) {
+      if (branches[i].dims != result.dims)
+        fail(DiagId::TypeMismatch, e.range, "the branches of this if-expression have different sizes");
+      for (std::size_t k = 0; k < result.elems.size(); ++k) {
+        auto n = std::make_unique<Expr>(ExprKind::If, e.range);
+        n->args.push_back(conds[i]->clone());
+        n->args.push_back(std::move(branches[i].elems[k]));
+        n->args.push_back(std::move(result.elems[k]));
+        result.elems[k] = std::move(n);
+      }
+    }
+    return result;
+  }
+  case ExprKind::Array: {
+    std::vector<Tensor> parts;
+    if (!e.iterators.empty()) {
+      if (e.iterators.size() != 1 || e.args.size() != 1)
+        fail(DiagId::Unsupported, e.range, "array constructors with several iterators are not supported");
+      std::vector<double> values = eval_range(*e.iterators[0].range, s);
+      LoopEnv env = s.env ? *s.env : LoopEnv{};
+      for (double v : values) {
+        env.values.emplace_back(e.iterators[0].name, v);
+        Scope inner = s;
+        inner.env = &env;
+        parts.push_back(expr(*e.args[0], inner));
+        env.values.pop_back();
+      }
+    } else {
+      for (const auto &a : e.args)
+        parts.push_back(expr(*a, s));
+    }
+    Tensor t;
+    t.dims.push_back(static_cast<int>(parts.size()));
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+      if (i == 0)
+        t.dims.insert(t.dims.end(), parts[0].dims.begin(), parts[0].dims.end());
+      else if (parts[i].dims != parts[0].dims)
+        fail(DiagId::TypeMismatch, e.range, "the elements of this array have different sizes");
+      for (auto &x : parts[i].elems)
+        t.elems.push_back(std::move(x));
+    }
+    return t;
+  }
+  case ExprKind::Matrix: {
+    Tensor t;
+    int cols = -1;
+    for (const auto &row : e.rows) {
+      if (cols >= 0 && static_cast<int>(row.size()) != cols)
+        fail(DiagId::TypeMismatch, e.range, "the rows of this matrix have different lengths");
+      cols = static_cast<int>(row.size());
+      for (const auto &x : row)
+        t.elems.push_back(scalar_expr(*x, s));
+    }
+    t.dims = {static_cast<int>(e.rows.size()), cols};
+    return t;
+  }
+  case ExprKind::Range: {
+    std::vector<double> values = eval_range(e, s);
+    Tensor t;
+    t.dims = {static_cast<int>(values.size())};
+    for (double v : values)
+      t.elems.push_back(literal(v, e.range, v == std::floor(v)));
+    return t;
+  }
+  case ExprKind::Tuple:
+  case ExprKind::Colon:
+    fail(DiagId::Unsupported, e.range, "this kind of expression is not supported here");
+  }
+
+  // ---- calls
+  const std::string name = e.ref.str();
+  auto arg = [&](std::size_t i) { return expr(*e.args[i], s); };
+  auto want_args = [&](std::size_t lo, std::size_t hi) {
+    if (e.args.size() < lo || e.args.size() > hi)
+      fail(DiagId::WrongArgumentCount, e.range,
+           fmt::format("{}() takes {} argument{}, {} given", name,
+                       lo == hi ? std::to_string(lo) : fmt::format("{} to {}", lo, hi), hi == 1 ? "" : "s",
+                       e.args.size()));
+  };
+  if (e.ref.is_simple()) {
+    if (name == "homotopy") {
+      for (const auto &na : e.named)
+        if (na.name == "actual")
+          return expr(*na.value, s);
+      want_args(2, 2);
+      return arg(0);
+    }
+    if (!e.named.empty())
+      fail(DiagId::Unsupported, e.range, "named arguments are only supported for homotopy()");
+    if (const BuiltinInfo *b = find_builtin(name)) {
+      want_args(b->min_args, b->max_args);
+      if (b->elementwise && e.args.size() == 1) {
+        Tensor a = arg(0);
+        if (name == "der")
+          for (auto &x : a.elems)
+            if (x->kind == ExprKind::Ref && x->var >= 0 &&
+                model_->variables[x->var].variability == ast::Variability::Parameter)
+              fail(DiagId::DerOfNonReal, e.range,
+                   "der() of parameter '" + model_->variables[x->var].name + "': a parameter is constant in time");
+        return elementwise(std::move(a), [&](ExprPtr x) {
+          std::vector<ExprPtr> v;
+          v.push_back(std::move(x));
+          return ast::make_call(name, std::move(v), e.range);
+        });
+      }
+      std::vector<ExprPtr> args;
+      for (std::size_t i = 0; i < e.args.size(); ++i)
+        args.push_back(scalar_expr(*e.args[i], s));
+      return Tensor::scalar(ast::make_call(name, std::move(args), e.range));
+    }
+    if (name == "min" || name == "max") {
+      want_args(1, 2);
+      if (e.args.size() == 2) {
+        std::vector<ExprPtr> v;
+        v.push_back(scalar_expr(*e.args[0], s));
+        v.push_back(scalar_expr(*e.args[1], s));
+        return Tensor::scalar(ast::make_call(name, std::move(v), e.range));
+      }
+      Tensor a = arg(0);
+      if (a.elems.empty())
+        fail(DiagId::TypeMismatch, e.range, name + "() of an empty array");
+      ExprPtr acc = std::move(a.elems[0]);
+      for (std::size_t i = 1; i < a.elems.size(); ++i) {
+        std::vector<ExprPtr> v;
+        v.push_back(std::move(acc));
+        v.push_back(std::move(a.elems[i]));
+        acc = ast::make_call(name, std::move(v), e.range);
+      }
+      return Tensor::scalar(std::move(acc));
+    }
+    if (name == "sum" || name == "product") {
+      want_args(1, 1);
+      Tensor a = arg(0);
+      ExprPtr acc;
+      for (auto &x : a.elems)
+        acc = acc ? ast::make_binary(name == "sum" ? Op::Add : Op::Mul, std::move(acc), std::move(x), e.range)
+                  : std::move(x);
+      return Tensor::scalar(acc ? std::move(acc) : literal(name == "sum" ? 0 : 1, e.range));
+    }
+    if (name == "size") {
+      want_args(1, 2);
+      Tensor a = arg(0);
+      if (e.args.size() == 2) {
+        long long k = eval_int(*e.args[1], s);
+        if (k < 1 || k > static_cast<long long>(a.dims.size()))
+          fail(DiagId::BadSubscript, e.range, fmt::format("size(..., {}) of an array with {} dimension(s)", k, a.dims.size()));
+        return Tensor::scalar(literal(a.dims[k - 1], e.range, true));
+      }
+      Tensor t;
+      t.dims = {static_cast<int>(a.dims.size())};
+      for (int d : a.dims)
+        t.elems.push_back(literal(d, e.range, true));
+      return t;
+    }
+    if (name == "zeros" || name == "ones" || name == "fill") {
+      std::size_t first = name == "fill" ? 1 : 0;
+      if (e.args.size() <= first)
+        fail(DiagId::WrongArgumentCount, e.range, name + "() needs at least one size");
+      Tensor t;
+      std::size_t total = 1;
+      for (std::size_t i = first; i < e.args.size(); ++i) {
+        long long n = eval_int(*e.args[i], s);
+        if (n < 0 || n > 1'000'000)
+          fail(DiagId::BadSubscript, e.args[i]->range, "array size out of range");
+        t.dims.push_back(static_cast<int>(n));
+        total *= static_cast<std::size_t>(n);
+      }
+      ExprPtr v = name == "fill" ? scalar_expr(*e.args[0], s) : literal(name == "ones" ? 1 : 0, e.range, true);
+      for (std::size_t i = 0; i < total; ++i)
+        t.elems.push_back(v->clone());
+      return t;
+    }
+    if (name == "identity") {
+      want_args(1, 1);
+      long long n = eval_int(*e.args[0], s);
+      if (n < 0 || n > 10'000)
+        fail(DiagId::BadSubscript, e.range, "identity() size out of range");
+      Tensor t;
+      t.dims = {static_cast<int>(n), static_cast<int>(n)};
+      for (long long i = 0; i < n; ++i)
+        for (long long j = 0; j < n; ++j)
+          t.elems.push_back(literal(i == j ? 1 : 0, e.range, true));
+      return t;
+    }
+    if (name == "transpose") {
+      want_args(1, 1);
+      Tensor a = arg(0);
+      if (a.dims.size() != 2)
+        fail(DiagId::TypeMismatch, e.range, "transpose() needs a matrix");
+      Tensor t;
+      t.dims = {a.dims[1], a.dims[0]};
+      for (int j = 0; j < a.dims[1]; ++j)
+        for (int i = 0; i < a.dims[0]; ++i)
+          t.elems.push_back(std::move(a.elems[i * a.dims[1] + j]));
+      return t;
+    }
+    if (name == "cross") {
+      want_args(2, 2);
+      Tensor a = arg(0), b = arg(1);
+      if (a.dims != std::vector<int>{3} || b.dims != std::vector<int>{3})
+        fail(DiagId::TypeMismatch, e.range, "cross() needs two vectors of size 3");
+      Tensor t;
+      t.dims = {3};
+      for (int i = 0; i < 3; ++i) {
+        int j = (i + 1) % 3, k = (i + 2) % 3;
+        t.elems.push_back(ast::make_binary(
+            Op::Sub, ast::make_binary(Op::Mul, a.elems[j]->clone(), b.elems[k]->clone(), e.range),
+            ast::make_binary(Op::Mul, a.elems[k]->clone(), b.elems[j]->clone(), e.range), e.range));
+      }
+      return t;
+    }
+    if (name == "scalar") {
+      want_args(1, 1);
+      Tensor a = arg(0);
+      if (a.elems.size() != 1)
+        fail(DiagId::TypeMismatch, e.range, "scalar() of an array with more than one element");
+      return Tensor::scalar(std::move(a.elems[0]));
+    }
+    if (name == "vector") {
+      want_args(1, 1);
+      Tensor a = arg(0);
+      a.dims = {static_cast<int>(a.elems.size())};
+      return a;
+    }
+    if (name == "semiLinear") {
+      want_args(3, 3);
+      ExprPtr x = scalar_expr(*e.args[0], s), k1 = scalar_expr(*e.args[1], s), k2 = scalar_expr(*e.args[2], s);
+      auto n = std::make_unique<Expr>(ExprKind::If, e.range);
+      n->args.push_back(ast::make_binary(Op::Ge, x->clone(), literal(0, e.range), e.range));
+      n->args.push_back(ast::make_binary(Op::Mul, std::move(k1), x->clone(), e.range));
+      n->args.push_back(ast::make_binary(Op::Mul, std::move(k2), std::move(x), e.range));
+      return Tensor::scalar(std::move(n));
+    }
+  }
+  // Optimica: `x(finalTime)` is the variable x at a time point.
+  if (s.in_optimization && e.args.size() == 1 && e.named.empty()) {
+    std::vector<int> dims;
+    std::vector<Instance *> insts;
+    if (resolve_instances(e.ref, s, e.range, dims, insts)) {
+      ExprPtr at = scalar_expr(*e.args[0], s);
+      Tensor t;
+      t.dims = dims;
+      for (Instance *inst : insts) {
+        if (inst->var < 0)
+          fail(DiagId::TypeMismatch, e.range, "'" + inst->flat + "' is not a scalar variable");
+        std::vector<ExprPtr> v;
+        v.push_back(at->clone());
+        auto c = ast::make_call(model_->variables[inst->var].name, std::move(v), e.range);
+        c->var = inst->var;
+        t.elems.push_back(std::move(c));
+      }
+      return t;
+    }
+  }
+  if (s.cls) {
+    if (ClassNode *fn = lookup_class(s.cls, [&] {
+          std::vector<std::string> p;
+          for (const auto &part : e.ref.parts) p.push_back(part.name);
+          return p;
+        }(), e.ref.global, e.range, false)) {
+      if (fn->def && fn->def->restriction == ast::Restriction::Function)
+        fail(DiagId::Unsupported, e.range,
+             "calls to the user-defined function '" + name + "' are not supported yet");
+    }
+  }
+  fail(DiagId::UnknownFunction, e.range, "unknown function '" + name + "'");
+}
+
+// -------------------------------------------------------------- evaluation
+
+double Flattener::eval_param(std::int32_t var, SourceRange where) {
+  if (param_state_.size() < model_->variables.size())
+    param_state_.resize(model_->variables.size(), 0);
+  flat::Variable &v = model_->variables[var];
+  if (v.variability != ast::Variability::Parameter && v.variability != ast::Variability::Constant)
+    fail(DiagId::NotConstant, where,
+         "'" + v.name + "' is a time-varying variable; a parameter or constant is needed here");
+  if (param_state_[var] == 2 && v.value)
+    return *v.value;
+  if (param_state_[var] == 1)
+    fail(DiagId::EvaluationError, where, "parameter '" + v.name + "' depends on itself");
+  if (param_state_[var] == 3)
+    throw Reported{};
+  param_state_[var] = 1;
+  try {
+    if (!v.binding) {
+      for (auto &p : pending_)
+        if (p.var == var && p.attribute.empty() && p.mod.binding) {
+          v.binding = binding_expr(p.mod);
+          p.mod.binding = nullptr; // consumed
+        }
+    }
+    const Expr *src = model_->variables[var].binding.get();
+    if (!src) {
+      for (auto &p : pending_)
+        if (p.var == var && p.attribute == "start" && p.mod.binding) {
+          model_->variables[var].attr.start = binding_expr(p.mod);
+          p.mod.binding = nullptr;
+        }
+      src = model_->variables[var].attr.start.get();
+    }
+    if (!src)
+      fail(DiagId::NotConstant, where, "parameter '" + model_->variables[var].name + "' has no value");
+    double value = eval(*src, where);
+    model_->variables[var].value = value;
+    param_state_[var] = 2;
+    return value;
+  } catch (Reported &) {
+    param_state_[var] = 3;
+    throw;
+  }
+}
+
+double Flattener::eval(const Expr &e, SourceRange where) {
+  switch (e.kind) {
+  case ExprKind::Real:
+  case ExprKind::Integer:
+  case ExprKind::Boolean:
+    return e.number;
+  case ExprKind::Ref:
+    if (e.var >= 0)
+      return eval_param(e.var, where);
+    fail(DiagId::NotConstant, where, "'" + e.ref.str() + "' varies in time; a constant is needed here");
+  case ExprKind::Unary: {
+    double a = eval(*e.args[0], where);
+    return e.op == Op::Neg ? -a : e.op == Op::Not ? (a == 0) : a;
+  }
+  case ExprKind::Binary: {
+    double a = eval(*e.args[0], where), b = eval(*e.args[1], where);
+    switch (e.op) {
+    case Op::Add: case Op::ElemAdd: return a + b;
+    case Op::Sub: case Op::ElemSub: return a - b;
+    case Op::Mul: case Op::ElemMul: return a * b;
+    case Op::Div: case Op::ElemDiv:
+      if (b == 0 && e.args[0]->kind == ExprKind::Integer && e.args[1]->kind == ExprKind::Integer)
+        fail(DiagId::EvaluationError, e.range, "integer division by zero");
+      return a / b;
+    case Op::Pow: case Op::ElemPow: return std::pow(a, b);
+    case Op::Lt: return a < b;
+    case Op::Le: return a <= b;
+    case Op::Gt: return a > b;
+    case Op::Ge: return a >= b;
+    case Op::Eq: return a == b;
+    case Op::Ne: return a != b;
+    case Op::And: return a != 0 && b != 0;
+    case Op::Or: return a != 0 || b != 0;
+    case Op::Neg: case Op::Plus: case Op::Not: break;
+    }
+    break;
+  }
+  case ExprKind::If:
+    for (std::size_t i = 0; i + 1 < e.args.size(); i += 2)
+      if (eval(*e.args[i], where) != 0)
+        return eval(*e.args[i + 1], where);
+    return eval(*e.args.back(), where);
+  case ExprKind::Call: {
+    const std::string n = e.ref.parts.empty() ? "" : e.ref.parts[0].name;
+    std::vector<double> a;
+    for (const auto &x : e.args)
+      a.push_back(eval(*x, where));
+    auto one = [&](double (*fn)(double)) { return a.size() == 1 ? fn(a[0]) : NAN; };
+    if (e.var < 0) {
+      if (n == "sin") return one(std::sin);
+      if (n == "cos") return one(std::cos);
+      if (n == "tan") return one(std::tan);
+      if (n == "asin") return one(std::asin);
+      if (n == "acos") return one(std::acos);
+      if (n == "atan") return one(std::atan);
+      if (n == "sinh") return one(std::sinh);
+      if (n == "cosh") return one(std::cosh);
+      if (n == "tanh") return one(std::tanh);
+      if (n == "exp") return one(std::exp);
+      if (n == "log") return one(std::log);
+      if (n == "log10") return one(std::log10);
+      if (n == "sqrt") return one(std::sqrt);
+      if (n == "abs") return one(std::fabs);
+      if (n == "floor" || n == "integer") return one(std::floor);
+      if (n == "ceil") return one(std::ceil);
+      if (n == "sign") return a.size() == 1 ? (a[0] > 0) - (a[0] < 0) : NAN;
+      if (n == "noEvent") return a.size() == 1 ? a[0] : NAN;
+      if (n == "atan2" && a.size() == 2) return std::atan2(a[0], a[1]);
+      if (n == "min" && a.size() == 2) return std::min(a[0], a[1]);
+      if (n == "max" && a.size() == 2) return std::max(a[0], a[1]);
+      if (n == "div" && a.size() == 2) return std::trunc(a[0] / a[1]);
+      if (n == "mod" && a.size() == 2) return a[0] - std::floor(a[0] / a[1]) * a[1];
+      if (n == "rem" && a.size() == 2) return a[0] - std::trunc(a[0] / a[1]) * a[1];
+      if (n == "smooth" && a.size() == 2) return a[1];
+    }
+    fail(DiagId::NotConstant, where, "'" + print_expr(e) + "' cannot be evaluated before simulation");
+  }
+  case ExprKind::String:
+  case ExprKind::Array:
+  case ExprKind::Matrix:
+  case ExprKind::Range:
+  case ExprKind::Tuple:
+  case ExprKind::Colon:
+  case ExprKind::End:
+    break;
+  }
+  fail(DiagId::NotConstant, where, "expression cannot be evaluated to a number");
+}
+
+long long Flattener::eval_int(const Expr &e, const Scope &s) {
+  ExprPtr f = scalar_expr(e, s);
+  double v = eval(*f, e.range);
+  if (v != std::floor(v) || std::fabs(v) > 1e15)
+    fail(DiagId::TypeMismatch, e.range, fmt::format("expected an integer, got {}", v));
+  return static_cast<long long>(v);
+}
+
+std::vector<double> Flattener::eval_range(const Expr &e, const Scope &s) {
+  if (e.kind != ExprKind::Range) {
+    Tensor t = expr(e, s);
+    if (t.dims.size() > 1)
+      fail(DiagId::TypeMismatch, e.range, "a for-range must be a vector");
+    std::vector<double> out;
+    for (auto &x : t.elems)
+      out.push_back(eval(*x, e.range));
+    return out;
+  }
+  double a = eval(*scalar_expr(*e.args[0], s), e.range);
+  double step = e.args.size() == 3 ? eval(*scalar_expr(*e.args[1], s), e.range) : 1.0;
+  double b = eval(*scalar_expr(*e.args.back(), s), e.range);
+  if (step == 0 || !std::isfinite(a) || !std::isfinite(b) || !std::isfinite(step))
+    fail(DiagId::EvaluationError, e.range, "invalid range");
+  double n = std::floor((b - a) / step + 1e-10) + 1;
+  if (n > 10'000'000)
+    fail(DiagId::EvaluationError, e.range, "range has more than 10^7 elements");
+  std::vector<double> out;
+  for (long long i = 0; i < static_cast<long long>(n); ++i)
+    out.push_back(a + static_cast<double>(i) * step);
+  return out;
+}
+
+ExprPtr Flattener::binding_expr(const Modifier &m) {
+  Scope s{m.scope, m.lexical, nullptr};
+  Tensor t = expr(*m.binding, s);
+  for (int i : m.index) {
+    if (t.dims.empty())
+      break; // a scalar binding applies to every element
+    int n = t.dims[0];
+    if (i < 1 || i > n)
+      fail(DiagId::BadSubscript, m.binding->range,
+           fmt::format("the binding has {} elements; element {} is needed", n, i));
+    std::size_t stride = t.elems.size() / static_cast<std::size_t>(n);
+    Tensor sub;
+    sub.dims.assign(t.dims.begin() + 1, t.dims.end());
+    for (std::size_t k = 0; k < stride; ++k)
+      sub.elems.push_back(std::move(t.elems[(i - 1) * stride + k]));
+    t = std::move(sub);
+  }
+  if (!t.is_scalar())
+    fail(DiagId::TypeMismatch, m.binding->range,
+         "an array of size " + dims_text(t.dims) + " is bound to a scalar");
+  return std::move(t.elems[0]);
+}
+
+} // namespace mo::frontend::detail

@@ -1,0 +1,331 @@
+// Phase 1 of flattening: the instance tree, flat variables and modifiers.
+#include "flattener.hpp"
+#include "mo/frontend/printer.hpp"
+
+#include <algorithm>
+
+namespace mo::frontend::detail {
+
+using ast::Variability;
+
+void Flattener::fail(DiagId id, SourceRange r, const std::string &msg) {
+  diags_.report(id, r, msg);
+  throw Reported{};
+}
+
+Modifier Flattener::make_modifier(const ast::Modification &m, Instance *scope, ClassNode *lexical) {
+  Modifier out;
+  out.range = m.range;
+  if (m.binding) {
+    out.binding = m.binding.get();
+    out.scope = scope;
+    out.lexical = lexical;
+  }
+  for (const ast::ElementMod &em : m.args) {
+    if (em.redeclare) {
+      diags_.report(DiagId::Unsupported, em.range, "redeclarations in modifiers are not supported");
+      continue;
+    }
+    // `a.b(c = 1) = 2` is a(b(c = 1) = 2): build the nested path.
+    Modifier *node = &out;
+    for (std::size_t i = 0; i < em.path.size(); ++i) {
+      node = &node->sub[em.path[i]];
+      if (node->range.file == 0)
+        node->range = em.range;
+    }
+    Modifier inner = make_modifier(em.mod, scope, lexical);
+    inner.each = em.each;
+    inner.final_ = em.final_;
+    inner.range = em.range;
+    merge_into(*node, inner);
+  }
+  return out;
+}
+
+void Flattener::merge_into(Modifier &inner, const Modifier &outer) {
+  if (outer.binding) {
+    inner.binding = outer.binding;
+    inner.scope = outer.scope;
+    inner.lexical = outer.lexical;
+    inner.index = outer.index;
+    inner.range = outer.range;
+  }
+  inner.each = inner.each || outer.each;
+  inner.final_ = inner.final_ || outer.final_;
+  for (const auto &[name, sub] : outer.sub)
+    merge_into(inner.sub[name], sub);
+}
+
+/// The modifier of array element `index`: bindings not marked `each` are
+/// taken at that element.
+static Modifier element_modifier(const Modifier &m, const std::vector<int> &index) {
+  Modifier out = m;
+  if (m.each)
+    return out;
+  if (m.binding)
+    out.index.insert(out.index.end(), index.begin(), index.end());
+  for (auto &[name, sub] : out.sub)
+    sub = element_modifier(m.sub.at(name), index);
+  return out;
+}
+
+std::unique_ptr<flat::Model> Flattener::run(const std::string &class_name) {
+  std::vector<std::string> parts;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i <= class_name.size(); ++i)
+    if (i == class_name.size() || class_name[i] == '.') {
+      parts.push_back(class_name.substr(start, i - start));
+      start = i + 1;
+    }
+  ClassNode *cls = lookup_class(&lib_.root, parts, true, {}, false);
+  if (!cls || !cls->def) {
+    std::string known;
+    for (const auto &n : lib_.order)
+      known += (known.empty() ? "" : ", ") + n;
+    diags_.report(DiagId::UnknownClass, {}, "class '" + class_name + "' not found" +
+                                                (known.empty() ? "" : " (top-level classes: " + known + ")"));
+    return nullptr;
+  }
+  model_ = std::make_unique<flat::Model>();
+  model_->name = class_name;
+  top_ = std::make_unique<Instance>();
+  top_->cls = cls;
+  all_instances_.push_back(top_.get());
+  try {
+    if (cls->def->partial)
+      fail(DiagId::PartialInstantiated, cls->def->range,
+           "partial class '" + class_name + "' cannot be simulated");
+    instantiate_class(*top_, cls, Modifier{}, 0);
+  } catch (Reported &) {
+    return nullptr;
+  }
+  if (diags_.has_errors())
+    return nullptr;
+  flatten_equations(*top_);
+  finish_connections();
+  return std::move(model_);
+}
+
+void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier &mod, unsigned depth) {
+  if (depth > opts_.max_depth)
+    fail(DiagId::InstantiationTooDeep, inst.decl ? inst.decl->range : SourceRange{},
+         "component nesting deeper than " + std::to_string(opts_.max_depth) +
+             " levels (is a class instantiating itself?)");
+  if (std::find(class_stack_.begin(), class_stack_.end(), cls) != class_stack_.end()) {
+    fail(DiagId::ExtendsCycle, cls->def->range,
+         "class '" + cls->path() + "' extends itself (through its base classes)");
+  }
+  class_stack_.push_back(cls);
+  const ast::ClassDef &def = *cls->def;
+  if (def.has_algorithm)
+    diags_.report(DiagId::Unsupported, def.algorithm_range,
+                  "algorithm sections are not supported (write equations instead)");
+  for (auto &[ext, base] : bases(cls)) {
+    if (!base->def) {
+      diags_.report(DiagId::NotAClass, ext->base.range, "'" + ext->base.str() + "' is a package path, not a class");
+      continue;
+    }
+    Modifier base_mod = make_modifier(ext->mod, &inst, cls);
+    merge_into(base_mod, mod);
+    instantiate_class(inst, base, base_mod, depth);
+  }
+  // Components: those without array dimensions first, so that parameters
+  // used as sizes exist before the arrays that need them.
+  std::vector<const ast::Component *> order;
+  for (const auto &c : def.components)
+    order.push_back(&c);
+  std::stable_partition(order.begin(), order.end(), [](const ast::Component *c) { return c->dims.empty(); });
+  for (const ast::Component *c : order) {
+    if (auto it = inst.member_index.find(c->name); it != inst.member_index.end()) {
+      diags_.report(DiagId::DuplicateDeclaration, c->range, "duplicate declaration of '" + c->name + "'");
+      if (it->second->decl)
+        diags_.note(it->second->decl->range, "previous declaration is here");
+      continue;
+    }
+    Modifier cmod = make_modifier(c->mod, &inst, cls);
+    if (auto it = mod.sub.find(c->name); it != mod.sub.end()) {
+      if (c->final_ && !it->second.empty())
+        diags_.report(DiagId::UnknownModifier, it->second.range,
+                      "'" + c->name + "' is final and cannot be modified");
+      merge_into(cmod, it->second);
+    }
+    try {
+      instantiate_component(inst, *c, cls, std::move(cmod), depth);
+    } catch (Reported &) {
+    }
+  }
+  for (const auto &eq : def.equations)
+    inst.equations.emplace_back(&eq, cls);
+  for (const auto &eq : def.initial_equations)
+    inst.initial_equations.emplace_back(&eq, cls);
+  for (const auto &eq : def.constraints)
+    inst.constraints.emplace_back(&eq, cls);
+  class_stack_.pop_back();
+}
+
+void Flattener::check_modifier_names(const Instance &inst, const Modifier &mod) {
+  for (const auto &[name, sub] : mod.sub) {
+    if (inst.member_index.count(name))
+      continue;
+    std::string where = inst.decl ? "component '" + inst.decl->name + "' of type '" + inst.decl->type.str() + "'"
+                                  : "class '" + (inst.cls ? inst.cls->path() : std::string("?")) + "'";
+    diags_.report(DiagId::UnknownModifier, sub.range, "modifier '" + name + "' does not name an element of " + where);
+  }
+}
+
+void Flattener::instantiate_component(Instance &parent, const ast::Component &comp, ClassNode *cls,
+                                      Modifier mod, unsigned depth) {
+  Scope here{&parent, cls, nullptr};
+  if (comp.outer)
+    fail(DiagId::Unsupported, comp.range, "'outer' components are not supported");
+  if (comp.condition) {
+    ast::ExprPtr c = scalar_expr(*comp.condition, here);
+    if (eval(*c, comp.condition->range) == 0)
+      return; // conditional component switched off
+  }
+  ResolvedType rt;
+  if (!resolve_type(cls, comp.type, rt))
+    throw Reported{};
+  Modifier full = rt.mod;
+  merge_into(full, mod);
+
+  auto child = std::make_unique<Instance>();
+  Instance &inst = *child;
+  inst.name = comp.name;
+  inst.flat = parent.flat.empty() ? comp.name : parent.flat + "." + comp.name;
+  inst.parent = &parent;
+  inst.decl = &comp;
+  inst.cls = rt.cls;
+  inst.variability = std::max(comp.variability, parent.variability);
+  inst.causality = comp.causality != ast::Causality::None ? comp.causality
+                   : rt.causality != ast::Causality::None ? rt.causality
+                                                          : parent.causality;
+  inst.is_flow = comp.connection == ast::Connection::Flow || parent.is_flow;
+  inst.is_enumeration = rt.is_enumeration;
+  if (comp.connection == ast::Connection::Stream)
+    fail(DiagId::Unsupported, comp.range, "stream connectors are not supported");
+  for (const auto &d : comp.dims) {
+    if (d->kind == ast::ExprKind::Colon)
+      fail(DiagId::Unsupported, d->range, "arrays of unknown size ':' are not supported");
+    long long n = eval_int(*d, here);
+    if (n < 0 || n > 10'000'000)
+      fail(DiagId::BadSubscript, d->range, "array size " + std::to_string(n) + " is out of range");
+    inst.dims.push_back(static_cast<int>(n));
+  }
+  for (int d : rt.dims)
+    inst.dims.push_back(d);
+  if (!rt.is_builtin) {
+    const ast::ClassDef &def = *rt.cls->def;
+    if (def.partial)
+      fail(DiagId::PartialInstantiated, comp.type.range,
+           "component '" + comp.name + "' has partial type '" + comp.type.str() + "'");
+    if (def.restriction == ast::Restriction::Package || def.restriction == ast::Restriction::Function)
+      fail(DiagId::NotAClass, comp.type.range,
+           "'" + comp.type.str() + "' is a " + ast::restriction_text(def.restriction) +
+               " and cannot be the type of a component");
+    inst.is_connector = def.restriction == ast::Restriction::Connector ||
+                        def.restriction == ast::Restriction::ExpandableConnector;
+    if (def.restriction == ast::Restriction::ExpandableConnector)
+      fail(DiagId::Unsupported, comp.type.range, "expandable connectors are not supported");
+  }
+  parent.member_index[comp.name] = &inst;
+  parent.members.push_back(std::move(child));
+  if (!inst.dims.empty()) {
+    make_elements(inst, comp, rt, full, depth);
+  } else if (rt.is_builtin) {
+    make_scalar(inst, rt, full);
+  } else {
+    all_instances_.push_back(&inst);
+    std::vector<ClassNode *> saved;
+    saved.swap(class_stack_); // extends cycles are per class, not per component
+    try {
+      instantiate_class(inst, rt.cls, full, depth + 1);
+    } catch (...) {
+      class_stack_.swap(saved);
+      throw;
+    }
+    class_stack_.swap(saved);
+    check_modifier_names(inst, full);
+  }
+}
+
+void Flattener::make_elements(Instance &inst, const ast::Component &comp, const ResolvedType &rt,
+                              const Modifier &mod, unsigned depth) {
+  std::size_t total = 1;
+  for (int d : inst.dims)
+    total *= static_cast<std::size_t>(d);
+  std::vector<int> idx(inst.dims.size(), 1);
+  for (std::size_t k = 0; k < total; ++k) {
+    auto el = std::make_unique<Instance>();
+    std::string sub;
+    for (std::size_t i = 0; i < idx.size(); ++i)
+      sub += (i ? "," : "") + std::to_string(idx[i]);
+    el->name = "[" + sub + "]";
+    el->flat = inst.flat + el->name;
+    el->parent = inst.parent;
+    el->decl = &comp;
+    el->cls = inst.cls;
+    el->variability = inst.variability;
+    el->causality = inst.causality;
+    el->is_flow = inst.is_flow;
+    el->is_connector = inst.is_connector;
+    el->is_enumeration = inst.is_enumeration;
+    Modifier emod = element_modifier(mod, idx);
+    if (rt.is_builtin) {
+      make_scalar(*el, rt, emod);
+    } else {
+      all_instances_.push_back(el.get());
+      std::vector<ClassNode *> saved;
+      saved.swap(class_stack_);
+      try {
+        instantiate_class(*el, rt.cls, emod, depth + 1);
+      } catch (...) {
+        class_stack_.swap(saved);
+        throw;
+      }
+      class_stack_.swap(saved);
+      check_modifier_names(*el, emod);
+    }
+    inst.elements.push_back(std::move(el));
+    for (std::size_t i = idx.size(); i-- > 0;) { // row-major increment
+      if (++idx[i] <= inst.dims[i]) break;
+      idx[i] = 1;
+    }
+  }
+}
+
+void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifier &mod) {
+  flat::Variable v;
+  v.name = inst.flat;
+  v.type = rt.builtin;
+  v.variability = inst.variability;
+  if (v.variability == Variability::Continuous && rt.builtin != flat::BaseType::Real)
+    v.variability = Variability::Discrete; // Integer/Boolean variables change only at events
+  v.causality = inst.causality;
+  v.is_flow = inst.is_flow;
+  v.top_level_input = inst.causality == ast::Causality::Input && inst.parent == top_.get();
+  v.description = inst.decl ? inst.decl->description : "";
+  v.range = inst.decl ? inst.decl->range : SourceRange{};
+  if (model_->find(v.name) >= 0)
+    fail(DiagId::DuplicateDeclaration, v.range, "two components flatten to the same name '" + v.name + "'");
+  inst.var = model_->add(std::move(v));
+  static const char *const kAttributes[] = {"start", "fixed", "min", "max", "nominal", "unit",
+                                            "displayUnit", "quantity", "stateSelect", "free",
+                                            "initialGuess"};
+  for (const auto &[name, sub] : mod.sub) {
+    bool known = std::find_if(std::begin(kAttributes), std::end(kAttributes),
+                              [&](const char *a) { return name == a; }) != std::end(kAttributes);
+    if (!known) {
+      diags_.report(DiagId::UnknownModifier, sub.range,
+                    "'" + name + "' is not an attribute of " + flat::base_type_text(rt.builtin) +
+                        " (in the declaration of '" + inst.flat + "')");
+      continue;
+    }
+    if (sub.binding)
+      pending_.push_back(PendingBinding{inst.var, name, sub});
+  }
+  if (mod.binding)
+    pending_.push_back(PendingBinding{inst.var, "", mod});
+}
+
+} // namespace mo::frontend::detail

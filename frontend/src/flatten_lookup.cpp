@@ -1,0 +1,214 @@
+// Class lookup: the package tree of all files, lexical scopes, imports and
+// classes inherited through `extends`.
+#include "flattener.hpp"
+
+namespace mo::frontend {
+
+std::string ClassNode::path() const {
+  if (!parent || parent->name.empty())
+    return name;
+  return parent->path() + "." + name;
+}
+
+void Library::Impl::insert(ClassNode &parent, const ast::ClassDef &def) {
+  auto &slot = parent.children[def.name];
+  if (!slot) {
+    slot = std::make_unique<ClassNode>();
+    slot->name = def.name;
+    slot->parent = &parent;
+  }
+  slot->def = &def; // a later file replaces an earlier definition of the same class
+  node_of[&def] = slot.get();
+  for (const auto &nested : def.classes)
+    insert(*slot, *nested);
+}
+
+Library::Library() : impl_(std::make_unique<Impl>()) {}
+Library::~Library() = default;
+
+void Library::add(std::unique_ptr<ast::StoredDefinition> file) {
+  ClassNode *parent = &impl_->root;
+  for (const auto &part : file->within) {
+    auto &slot = parent->children[part];
+    if (!slot) {
+      slot = std::make_unique<ClassNode>();
+      slot->name = part;
+      slot->parent = parent;
+    }
+    parent = slot.get();
+  }
+  for (const auto &cls : file->classes) {
+    if (parent == &impl_->root)
+      impl_->order.push_back(cls->name);
+    impl_->insert(*parent, *cls);
+  }
+  impl_->files.push_back(std::move(file));
+}
+
+std::vector<std::string> Library::top_level_names() const { return impl_->order; }
+
+namespace detail {
+
+static bool builtin_type(const std::string &n, flat::BaseType &t) {
+  if (n == "Real") t = flat::BaseType::Real;
+  else if (n == "Integer") t = flat::BaseType::Integer;
+  else if (n == "Boolean") t = flat::BaseType::Boolean;
+  else if (n == "String") t = flat::BaseType::String;
+  else return false;
+  return true;
+}
+
+std::vector<std::pair<const ast::Extends *, ClassNode *>> Flattener::bases(ClassNode *cls) {
+  std::vector<std::pair<const ast::Extends *, ClassNode *>> out;
+  if (!cls || !cls->def)
+    return out;
+  for (const auto &ext : cls->def->extends) {
+    // Base names are looked up in the enclosing scope of the class: a class
+    // cannot extend one of its own (inherited) members.
+    ClassNode *base = lookup_class(cls->parent ? cls->parent : &lib_.root, ext.base.parts,
+                                   ext.base.global, ext.base.range, false);
+    if (!base) {
+      flat::BaseType t;
+      if (ext.base.parts.size() == 1 && builtin_type(ext.base.parts[0], t))
+        continue; // `extends Real` in a type: handled as a short class would be
+      diags_.report(DiagId::UnknownClass, ext.base.range,
+                    "unknown class '" + ext.base.str() + "' in extends clause");
+      continue;
+    }
+    out.emplace_back(&ext, base);
+  }
+  return out;
+}
+
+ClassNode *Flattener::find_member_class(ClassNode *cls, const std::string &name, unsigned depth) {
+  if (!cls)
+    return nullptr;
+  auto it = cls->children.find(name);
+  if (it != cls->children.end() && it->second->def)
+    return it->second.get();
+  if (it != cls->children.end())
+    return it->second.get(); // an implied package from `within`
+  if (depth > 32 || !cls->def)
+    return nullptr;
+  for (const auto &ext : cls->def->extends) {
+    ClassNode *base = lookup_class(cls->parent ? cls->parent : &lib_.root, ext.base.parts,
+                                   ext.base.global, ext.base.range, false);
+    if (base && base != cls)
+      if (ClassNode *found = find_member_class(base, name, depth + 1))
+        return found;
+  }
+  return nullptr;
+}
+
+ClassNode *Flattener::lookup_class(ClassNode *scope, const std::vector<std::string> &parts,
+                                   bool global, SourceRange where, bool report) {
+  ClassNode *found = nullptr;
+  if (global) {
+    found = find_member_class(&lib_.root, parts[0]);
+  } else {
+    for (ClassNode *s = scope; s && !found; s = s->parent) {
+      found = find_member_class(s, parts[0]);
+      if (found || !s->def)
+        continue;
+      for (const auto &imp : s->def->imports) {
+        if (!imp.alias.empty() && imp.alias == parts[0]) {
+          found = lookup_class(&lib_.root, imp.path, true, imp.range, false);
+        } else if (imp.wildcard) {
+          if (ClassNode *pkg = lookup_class(&lib_.root, imp.path, true, imp.range, false))
+            found = find_member_class(pkg, parts[0]);
+        } else if (!imp.names.empty()) {
+          for (const auto &n : imp.names)
+            if (n == parts[0])
+              if (ClassNode *pkg = lookup_class(&lib_.root, imp.path, true, imp.range, false))
+                found = find_member_class(pkg, n);
+        } else if (imp.alias.empty() && !imp.path.empty() && imp.path.back() == parts[0]) {
+          found = lookup_class(&lib_.root, imp.path, true, imp.range, false);
+        }
+        if (found)
+          break;
+      }
+      if (s->def && s->def->encapsulated && !found) {
+        found = find_member_class(&lib_.root, parts[0]);
+        break;
+      }
+    }
+  }
+  for (std::size_t i = 1; found && i < parts.size(); ++i)
+    found = find_member_class(found, parts[i]);
+  if (!found && report) {
+    std::string n;
+    for (std::size_t i = 0; i < parts.size(); ++i)
+      n += (i ? "." : "") + parts[i];
+    fail(DiagId::UnknownClass, where, "unknown class '" + n + "'");
+  }
+  return found;
+}
+
+bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out) {
+  flat::BaseType bt;
+  ClassNode *cls = lookup_class(scope, type.parts, type.global, type.range, false);
+  if (!cls && type.parts.size() == 1 && builtin_type(type.parts[0], bt)) {
+    out.is_builtin = true;
+    out.builtin = bt;
+    return true;
+  }
+  if (!cls) {
+    diags_.report(DiagId::UnknownClass, type.range, "unknown class '" + type.str() + "'");
+    return false;
+  }
+  // Follow short class definitions: `type Voltage = Real(unit = "V")`,
+  // `connector RealInput = input Real`. Modifiers nearer the use win.
+  for (unsigned hops = 0; cls && cls->def && cls->def->short_base; ++hops) {
+    if (hops > 32) {
+      diags_.report(DiagId::ExtendsCycle, type.range, "type '" + type.str() + "' is defined in terms of itself");
+      return false;
+    }
+    const ast::ClassDef &d = *cls->def;
+    Modifier m = make_modifier(d.class_mod, nullptr);
+    merge_into(m, out.mod);
+    out.mod = std::move(m);
+    if (out.causality == ast::Causality::None)
+      out.causality = d.short_causality;
+    for (const auto &dim : d.short_dims) {
+      Scope s{nullptr, cls->parent, nullptr};
+      out.dims.push_back(static_cast<int>(eval_int(*dim, s)));
+    }
+    ClassNode *next = lookup_class(cls->parent, d.short_base->parts, d.short_base->global,
+                                   d.short_base->range, false);
+    if (!next && d.short_base->parts.size() == 1 && builtin_type(d.short_base->parts[0], bt)) {
+      out.is_builtin = true;
+      out.builtin = bt;
+      return true;
+    }
+    if (!next) {
+      diags_.report(DiagId::UnknownClass, d.short_base->range,
+                    "unknown class '" + d.short_base->str() + "'");
+      return false;
+    }
+    cls = next;
+  }
+  if (cls->def && !cls->def->enumeration.empty()) {
+    out.is_builtin = true;
+    out.builtin = flat::BaseType::Integer;
+    out.is_enumeration = true;
+    return true;
+  }
+  // `type T extends Real(...)`-style long types: a type class whose only
+  // content is `extends <builtin>`.
+  if (cls->def && cls->def->restriction == ast::Restriction::Type && cls->def->components.empty()) {
+    for (const auto &ext : cls->def->extends)
+      if (ext.base.parts.size() == 1 && builtin_type(ext.base.parts[0], bt)) {
+        Modifier m = make_modifier(ext.mod, nullptr);
+        merge_into(m, out.mod);
+        out.mod = std::move(m);
+        out.is_builtin = true;
+        out.builtin = bt;
+        return true;
+      }
+  }
+  out.cls = cls;
+  return true;
+}
+
+} // namespace detail
+} // namespace mo::frontend

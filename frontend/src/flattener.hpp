@@ -1,0 +1,209 @@
+#pragma once
+// Internals of flattening, shared by the flatten_*.cpp files.
+//
+// Phase 1 (flatten_instance.cpp) builds the instance tree: one Instance per
+// component (array elements included), flat variables for the scalars, and
+// merged modifiers. Phase 2 flattens bindings, equations and connections
+// (flatten_expr.cpp, flatten_equations.cpp, flatten_connect.cpp) into the
+// flat::Model. Class lookup lives in flatten_lookup.cpp.
+#include "mo/frontend/diagnostics.hpp"
+#include "mo/frontend/flat.hpp"
+#include "mo/frontend/flatten.hpp"
+
+#include <map>
+#include <memory>
+#include <set>
+#include <unordered_map>
+
+namespace mo::frontend {
+
+/// A class in the package tree, with its lexical parent.
+struct ClassNode {
+  std::string name;
+  const ast::ClassDef *def = nullptr; ///< null for the root and implied packages
+  ClassNode *parent = nullptr;
+  std::map<std::string, std::unique_ptr<ClassNode>> children;
+  std::string path() const;
+};
+
+struct Library::Impl {
+  ClassNode root;
+  std::vector<std::unique_ptr<ast::StoredDefinition>> files;
+  std::vector<std::string> order;
+  std::unordered_map<const ast::ClassDef *, ClassNode *> node_of;
+  void insert(ClassNode &parent, const ast::ClassDef &def);
+};
+
+namespace detail {
+
+struct Instance;
+
+/// A merged modification tree: outer modifications override inner ones.
+/// A binding is flattened in the scope of the instance that wrote it.
+struct Modifier {
+  std::map<std::string, Modifier> sub;
+  const ast::Expr *binding = nullptr;
+  Instance *scope = nullptr;   ///< instance whose members the binding sees
+  ClassNode *lexical = nullptr; ///< class the modification was written in
+  std::vector<int> index;       ///< array element the binding is taken at
+  bool each = false;
+  bool final_ = false;
+  SourceRange range;
+  bool empty() const { return sub.empty() && !binding; }
+};
+
+/// The type a component declaration resolves to, through short classes.
+struct ResolvedType {
+  ClassNode *cls = nullptr;            ///< null for a built-in type
+  flat::BaseType builtin = flat::BaseType::Real;
+  bool is_builtin = false;
+  ast::Causality causality = ast::Causality::None;
+  std::vector<int> dims;               ///< from short class definitions
+  Modifier mod;                        ///< from short class definitions
+  bool is_enumeration = false;
+};
+
+/// One component instance. Arrays hold their elements (row-major);
+/// structured instances hold members; scalars of a built-in type a variable.
+struct Instance {
+  std::string name;   ///< local name (element: "[2]")
+  std::string flat;   ///< full flat name
+  Instance *parent = nullptr;
+  ClassNode *cls = nullptr; ///< class whose scope names in it resolve in
+  const ast::Component *decl = nullptr;
+  std::vector<int> dims;   ///< non-empty: an array; elements in `elements`
+  std::vector<std::unique_ptr<Instance>> elements;
+  std::vector<std::unique_ptr<Instance>> members;
+  std::unordered_map<std::string, Instance *> member_index;
+  std::int32_t var = -1;   ///< scalar of a built-in type
+  bool is_connector = false;
+  bool is_flow = false;
+  bool is_structured() const { return dims.empty() && var < 0; }
+  /// Equations of the classes (and bases) of this instance, with the class
+  /// each was written in (for lexical lookup).
+  std::vector<std::pair<const ast::Equation *, ClassNode *>> equations, initial_equations;
+  std::vector<std::pair<const ast::Equation *, ClassNode *>> constraints;
+  ast::Variability variability = ast::Variability::Continuous;
+  ast::Causality causality = ast::Causality::None;
+  bool is_enumeration = false;
+};
+
+/// A value of an array expression during flattening: dims and elements in
+/// row-major order; a scalar has no dims and one element.
+struct Tensor {
+  std::vector<int> dims;
+  std::vector<ast::ExprPtr> elems;
+  bool is_scalar() const { return dims.empty(); }
+  static Tensor scalar(ast::ExprPtr e) {
+    Tensor t;
+    t.elems.push_back(std::move(e));
+    return t;
+  }
+};
+
+/// For-loop and iterator bindings in scope while flattening an expression.
+struct LoopEnv {
+  std::vector<std::pair<std::string, double>> values;
+  const double *find(const std::string &n) const {
+    for (auto it = values.rbegin(); it != values.rend(); ++it)
+      if (it->first == n) return &it->second;
+    return nullptr;
+  }
+};
+
+/// Where an expression is flattened: the instance whose members are in
+/// scope, the class for lexical lookup, and loop variables.
+struct Scope {
+  Instance *inst = nullptr;
+  ClassNode *cls = nullptr;
+  const LoopEnv *env = nullptr;
+  bool in_optimization = false;
+};
+
+/// Thrown (and caught at the statement level) once a diagnostic has been
+/// reported for the current equation or binding.
+struct Reported {};
+
+class Flattener {
+public:
+  Flattener(Library::Impl &lib, DiagnosticEngine &diags, const FlattenOptions &opts)
+      : lib_(lib), diags_(diags), opts_(opts) {}
+
+  std::unique_ptr<flat::Model> run(const std::string &class_name);
+
+  // -- lookup (flatten_lookup.cpp)
+  ClassNode *lookup_class(ClassNode *scope, const std::vector<std::string> &parts, bool global,
+                          SourceRange where, bool report = true);
+  ClassNode *find_member_class(ClassNode *cls, const std::string &name, unsigned depth = 0);
+  bool resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out);
+  /// The bases of `cls` (its `extends`), resolved; reports unknown bases.
+  std::vector<std::pair<const ast::Extends *, ClassNode *>> bases(ClassNode *cls);
+
+  // -- instances (flatten_instance.cpp)
+  void instantiate_class(Instance &inst, ClassNode *cls, const Modifier &mod, unsigned depth);
+  Modifier make_modifier(const ast::Modification &m, Instance *scope, ClassNode *lexical);
+  static void merge_into(Modifier &inner, const Modifier &outer);
+  void instantiate_component(Instance &parent, const ast::Component &comp, ClassNode *cls,
+                             Modifier mod, unsigned depth);
+  void make_scalar(Instance &inst, const ResolvedType &rt, const Modifier &mod);
+  void make_elements(Instance &inst, const ast::Component &comp, const ResolvedType &rt,
+                     const Modifier &mod, unsigned depth);
+  void check_modifier_names(const Instance &inst, const Modifier &mod);
+  /// A binding, flattened and taken at the modifier's element index.
+  ast::ExprPtr binding_expr(const Modifier &m);
+
+  struct PendingBinding {
+    std::int32_t var;
+    std::string attribute; ///< "" for the value binding
+    Modifier mod;
+  };
+  std::vector<PendingBinding> pending_;
+  std::vector<ClassNode *> class_stack_;
+
+  // -- expressions (flatten_expr.cpp)
+  Tensor expr(const ast::Expr &e, const Scope &s);
+  ast::ExprPtr scalar_expr(const ast::Expr &e, const Scope &s);
+  /// Evaluates a flat expression; throws Reported when it is not constant.
+  double eval(const ast::Expr &flat_expr, SourceRange where);
+  double eval_param(std::int32_t var, SourceRange where);
+  /// Flattens and evaluates `e` as an integer (dims, subscripts, ranges).
+  long long eval_int(const ast::Expr &e, const Scope &s);
+  std::vector<double> eval_range(const ast::Expr &e, const Scope &s);
+
+  // -- equations and connections (flatten_equations.cpp, flatten_connect.cpp)
+  void flatten_equations(Instance &inst);
+  void equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
+  void connect(const ast::Equation &eq, const Scope &s);
+  void finish_connections();
+
+  // -- shared state
+  Library::Impl &lib_;
+  DiagnosticEngine &diags_;
+  const FlattenOptions &opts_;
+  std::unique_ptr<flat::Model> model_;
+  std::unique_ptr<Instance> top_;
+  std::vector<std::int8_t> param_state_; ///< 0 unevaluated, 1 evaluating, 2 done, 3 failed
+  std::vector<Instance *> all_instances_;
+
+  [[noreturn]] void fail(DiagId id, SourceRange r, const std::string &msg);
+  /// Resolves a component reference to instances (a tensor of them when
+  /// subscripts select several); null when the first name is no member.
+  bool resolve_instances(const ast::ComponentRef &ref, const Scope &s, SourceRange where,
+                         std::vector<int> &dims, std::vector<Instance *> &out);
+  /// A constant reached lexically (package constants, enumeration literals).
+  bool lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
+
+  // connections
+  std::vector<std::int32_t> uf_parent_;
+  struct FlowTerm {
+    std::int32_t var;
+    int sign;
+  };
+  std::vector<std::pair<std::int32_t, std::int32_t>> potential_pairs_;
+  std::vector<std::pair<FlowTerm, FlowTerm>> flow_pairs_;
+  std::set<std::int32_t> connected_flows_;
+  std::vector<SourceRange> connect_ranges_;
+};
+
+} // namespace detail
+} // namespace mo::frontend
