@@ -23,12 +23,12 @@ package MoLib "Coselica-style components: translational, rotational, planar, sig
   package Blocks "Signal blocks"
 
     package Interfaces
-      connector RealInput "Real input signal"
-        input Real signal;
+      connector RealInput "Real input signal (no prefix: see the file header)"
+        Real signal;
       end RealInput;
 
-      connector RealOutput "Real output signal"
-        output Real signal;
+      connector RealOutput "Real output signal (no prefix: see the file header)"
+        Real signal;
       end RealOutput;
 
       partial block SO "Single output"
