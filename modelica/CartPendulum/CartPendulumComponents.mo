@@ -35,10 +35,10 @@ partial model CartPendulumComponentsBase "The plant without the force signal"
   MoLib.Mechanics.Planar.Parts.Fixed world "Rail origin";
   MoLib.Mechanics.Planar.Joints.ActuatedPrismatic prismatic(nx = 1, ny = 0) "Rail";
   MoLib.Mechanics.Translational.Components.Fixed fixed1 "Translational ground";
-  MoLib.Mechanics.Translational.Components.Mass cart(m = m1, s(start = 0), v(start = 0));
+  MoLib.Mechanics.Translational.Components.Mass cart(m = m1, s(start = 0, fixed = true), v(start = 0, fixed = true));
   MoLib.Mechanics.Translational.Components.Damper damper1(d = d1) "Cart friction";
   MoLib.Mechanics.Translational.Sources.Force force;
-  MoLib.Mechanics.Planar.Joints.ActuatedRevolute revolute(phi(start = 0), w(start = 0)) "Hinge";
+  MoLib.Mechanics.Planar.Joints.ActuatedRevolute revolute(phi(start = 0, fixed = true), w(start = 0, fixed = true)) "Hinge";
   MoLib.Mechanics.Rotational.Components.Damper damper2(d = d2) "Hinge friction";
   MoLib.Mechanics.Planar.Parts.Body rod(m = m2, I = m2*l^2/12, rCMx = 0, rCMy = -l/2,
     gx = 0, gy = -g) "Uniform rod, hinged at one end";

@@ -2,7 +2,7 @@
 // shared docs cart-pendulum.md and the paper's eq. (9).
 // States x (cart position), phi (pendulum angle, 0 = hanging down),
 // v = der(x), w = der(phi). Input F pushes the cart in +x.
-// Outputs y = (x, phi) as y_x, y_phi.
+// Outputs y = (x, phi) as y_x, y_phi. All states are 0 at t = 0 (fixed).
 
 model CartPendulumODE "Cart and pendulum, mass-matrix form, force input F"
   parameter Real m1 = 2 "Equivalent cart mass (kg)";
@@ -14,10 +14,10 @@ model CartPendulumODE "Cart and pendulum, mass-matrix form, force input F"
   input Real F "Force on the cart (N)";
   output Real y_x "Measured cart position (m)";
   output Real y_phi "Measured pendulum angle (rad)";
-  Real x(start = 0) "Cart position (m)";
-  Real phi(start = 0) "Pendulum angle, 0 = hanging down (rad)";
-  Real v(start = 0) "Cart velocity (m/s)";
-  Real w(start = 0) "Pendulum angular velocity (rad/s)";
+  Real x(start = 0, fixed = true) "Cart position (m)";
+  Real phi(start = 0, fixed = true) "Pendulum angle, 0 = hanging down (rad)";
+  Real v(start = 0, fixed = true) "Cart velocity (m/s)";
+  Real w(start = 0, fixed = true) "Pendulum angular velocity (rad/s)";
 equation
   der(x) = v;
   der(phi) = w;
@@ -42,10 +42,10 @@ model CartPendulumSine "Cart and pendulum driven by F = 3*sin(2*pi*1*time)"
   Real F "Force on the cart (N)";
   output Real y_x "Measured cart position (m)";
   output Real y_phi "Measured pendulum angle (rad)";
-  Real x(start = 0) "Cart position (m)";
-  Real phi(start = 0) "Pendulum angle, 0 = hanging down (rad)";
-  Real v(start = 0) "Cart velocity (m/s)";
-  Real w(start = 0) "Pendulum angular velocity (rad/s)";
+  Real x(start = 0, fixed = true) "Cart position (m)";
+  Real phi(start = 0, fixed = true) "Pendulum angle, 0 = hanging down (rad)";
+  Real v(start = 0, fixed = true) "Cart velocity (m/s)";
+  Real w(start = 0, fixed = true) "Pendulum angular velocity (rad/s)";
 equation
   F = A*sin(2*3.141592653589793*f*time);
   der(x) = v;
