@@ -84,10 +84,12 @@ package MoLib "Coselica-style components: translational, rotational, planar, sig
         parameter Real offset = 0 "Offset of output signal";
         parameter Real startTime = 0 "Output = offset for time < startTime";
         // `sample` is not available in modelicat, so the start of the current
-        // period is a discrete variable advanced by a when-equation.
+        // period is a discrete variable advanced by a when-equation. The
+        // condition uses T0, not pre(T0): modelicac fails (assertion in its
+        // code generator) on pre() inside a when condition.
         discrete Real T0(start = startTime) "Start time of the current period";
       equation
-        when time >= pre(T0) + period then
+        when time >= T0 + period then
           T0 = pre(T0) + period;
         end when;
         y.signal = offset + (if time < startTime then 0 else
