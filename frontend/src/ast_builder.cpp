@@ -70,6 +70,17 @@ ClassPtr AstBuilder::class_definition(P::Class_definitionContext *ctx) {
   cls->restriction = restriction_of(ctx->class_prefixes());
   cls->full_range = range(ctx);
   auto *spec = ctx->class_specifier();
+  if (++class_depth_ > kMaxClassDepth) {
+    if (class_depth_ == kMaxClassDepth + 1)
+      diags_.report(DiagId::NestingTooDeep, range(spec),
+                    "classes nested more than " + std::to_string(kMaxClassDepth) + " levels deep");
+    --class_depth_;
+    return cls;
+  }
+  struct Leave {
+    unsigned &d;
+    ~Leave() { --d; }
+  } leave{class_depth_};
   if (auto *lc = spec->long_class_specifier()) {
     auto ids = lc->IDENT();
     cls->name = ident(ids.front());

@@ -21,6 +21,8 @@ private:
   FileId file_;
   std::string_view text_;
   DiagnosticEngine &diags_;
+  unsigned class_depth_ = 0;
+  static constexpr unsigned kMaxClassDepth = 100;
 
   SourceRange range(antlr4::Token *t) const;
   SourceRange range(antlr4::ParserRuleContext *ctx) const;

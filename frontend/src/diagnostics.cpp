@@ -41,6 +41,10 @@ Severity diag_severity(DiagId id) { return kDiagTable[static_cast<int>(id)].seve
 
 Diagnostic &DiagnosticEngine::report(DiagId id, SourceRange range, std::string message) {
   Severity s = diag_severity(id);
+  // Parser error recovery can report the same mistake twice in a row.
+  if (!diags_.empty() && diags_.back().id == id && diags_.back().range.file == range.file &&
+      diags_.back().range.begin == range.begin && diags_.back().message == message)
+    return diags_.back();
   if (s == Severity::Error) {
     ++error_count_;
     if (error_count_ > max_errors_) {

@@ -321,6 +321,13 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
           return Tensor::scalar(literal(*v, e.range, true));
       if (n == "time" && !(s.inst && s.inst->member_index.count(n)))
         return Tensor::scalar(ast::make_ref("time", e.range));
+      if (s.in_optimization && (n == "startTime" || n == "finalTime"))
+        for (const ast::ElementMod &em : top_->cls->def->class_mod.args)
+          if (em.path.size() == 1 && em.path[0] == n && em.mod.binding) {
+            Scope top_scope{top_.get(), top_->cls, nullptr};
+            ExprPtr v = scalar_expr(*em.mod.binding, top_scope);
+            return Tensor::scalar(literal(eval(*v, e.range), e.range, v->kind == ExprKind::Integer));
+          }
     }
     std::vector<int> dims;
     std::vector<Instance *> insts;

@@ -77,7 +77,12 @@ std::unique_ptr<flat::Model> Flattener::run(const std::string &class_name) {
       parts.push_back(class_name.substr(start, i - start));
       start = i + 1;
     }
-  ClassNode *cls = lookup_class(&lib_.root, parts, true, {}, false);
+  // A flat class may be named with dots (`Pkg.Model` printed backquoted).
+  ClassNode *cls = nullptr;
+  if (auto it = lib_.root.children.find(class_name); it != lib_.root.children.end())
+    cls = it->second.get();
+  if (!cls)
+    cls = lookup_class(&lib_.root, parts, true, {}, false);
   if (!cls || !cls->def) {
     std::string known;
     for (const auto &n : lib_.order)
@@ -202,6 +207,7 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
                                                           : parent.causality;
   inst.is_flow = comp.connection == ast::Connection::Flow || parent.is_flow;
   inst.is_enumeration = rt.is_enumeration;
+  inst.is_connector = rt.is_connector;
   if (comp.connection == ast::Connection::Stream)
     fail(DiagId::Unsupported, comp.range, "stream connectors are not supported");
   for (const auto &d : comp.dims) {
@@ -303,7 +309,11 @@ void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifi
     v.variability = Variability::Discrete; // Integer/Boolean variables change only at events
   v.causality = inst.causality;
   v.is_flow = inst.is_flow;
-  v.top_level_input = inst.causality == ast::Causality::Input && inst.parent == top_.get();
+  // Inputs of the model itself are known signals. In Xcos' flat files the
+  // `input` prefix of a connector is copied onto nested names (`f.signal`):
+  // those are connected inside the model and stay unknowns.
+  v.top_level_input = inst.causality == ast::Causality::Input && inst.parent == top_.get() &&
+                      inst.flat.find('.') == std::string::npos;
   v.description = inst.decl ? inst.decl->description : "";
   v.range = inst.decl ? inst.decl->range : SourceRange{};
   if (model_->find(v.name) >= 0)

@@ -164,7 +164,9 @@ bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, Resolv
       return false;
     }
     const ast::ClassDef &d = *cls->def;
-    Modifier m = make_modifier(d.class_mod, nullptr);
+    if (d.restriction == ast::Restriction::Connector)
+      out.is_connector = true;
+    Modifier m = make_modifier(d.class_mod, nullptr, cls->parent);
     merge_into(m, out.mod);
     out.mod = std::move(m);
     if (out.causality == ast::Causality::None)
@@ -198,7 +200,7 @@ bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, Resolv
   if (cls->def && cls->def->restriction == ast::Restriction::Type && cls->def->components.empty()) {
     for (const auto &ext : cls->def->extends)
       if (ext.base.parts.size() == 1 && builtin_type(ext.base.parts[0], bt)) {
-        Modifier m = make_modifier(ext.mod, nullptr);
+        Modifier m = make_modifier(ext.mod, nullptr, cls);
         merge_into(m, out.mod);
         out.mod = std::move(m);
         out.is_builtin = true;

@@ -61,6 +61,7 @@ struct ResolvedType {
   std::vector<int> dims;               ///< from short class definitions
   Modifier mod;                        ///< from short class definitions
   bool is_enumeration = false;
+  bool is_connector = false;           ///< `connector RealInput = input Real`
 };
 
 /// One component instance. Arrays hold their elements (row-major);
@@ -118,6 +119,7 @@ struct Scope {
   ClassNode *cls = nullptr;
   const LoopEnv *env = nullptr;
   bool in_optimization = false;
+  bool in_when = false;
 };
 
 /// Thrown (and caught at the statement level) once a diagnostic has been
@@ -193,16 +195,15 @@ public:
   /// A constant reached lexically (package constants, enumeration literals).
   bool lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
 
-  // connections
-  std::vector<std::int32_t> uf_parent_;
-  struct FlowTerm {
-    std::int32_t var;
-    int sign;
-  };
-  std::vector<std::pair<std::int32_t, std::int32_t>> potential_pairs_;
-  std::vector<std::pair<FlowTerm, FlowTerm>> flow_pairs_;
-  std::set<std::int32_t> connected_flows_;
-  std::vector<SourceRange> connect_ranges_;
+  // connections: set elements are 2*var + (1 if seen from outside);
+  // see flatten_connect.cpp.
+  std::vector<std::pair<std::int32_t, std::int32_t>> connections_;
+  std::vector<SourceRange> connection_ranges_;
+  void connect_pair(Instance *a, bool a_outside, Instance *b, bool b_outside, SourceRange where);
+  void flatten_bindings();
+  void flatten_optimization();
+  void check_balance();
+  bool is_constant(const ast::Expr &flat_expr) const;
 };
 
 } // namespace detail

@@ -63,12 +63,14 @@ bool plain_ident(const std::string &s) {
   for (char c : s)
     if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '_'))
       return false;
+  // `der` and `initial` are keywords that are also function names: they are
+  // never variable names, so they print bare.
   static const char *const kKeywords[] = {
       "algorithm", "and", "annotation", "block", "break", "class", "connect", "connector",
-      "constant", "constrainedby", "constraint", "der", "discrete", "each", "else", "elseif",
+      "constant", "constrainedby", "constraint", "discrete", "each", "else", "elseif",
       "elsewhen", "encapsulated", "end", "enumeration", "equation", "expandable", "extends",
       "external", "false", "final", "flow", "for", "function", "if", "import", "impure", "in",
-      "initial", "inner", "input", "loop", "model", "not", "operator", "optimization", "or",
+      "inner", "input", "loop", "model", "not", "operator", "optimization", "or",
       "outer", "output", "package", "parameter", "partial", "protected", "public", "pure",
       "record", "redeclare", "replaceable", "return", "stream", "then", "true", "type", "when",
       "while", "within"};
@@ -88,6 +90,8 @@ public:
     body(e);
     if (paren) out_ += ')';
   }
+
+  void ref_text(const ComponentRef &r) { ref(r); }
 
 private:
   std::string &out_;
@@ -236,6 +240,12 @@ std::string quote_name(const std::string &name) {
   if (name.size() >= 2 && name.front() == '\'' && name.back() == '\'')
     return name; // a Modelica quoted identifier, quotes included
   return "`" + name + "`";
+}
+
+std::string ast::ComponentRef::str() const {
+  std::string out;
+  Printer(out, nullptr).ref_text(*this);
+  return out;
 }
 
 std::string format_real(double v) {

@@ -1,0 +1,365 @@
+// Phase 2 of flattening: bindings, equations, Optimica problem, balance.
+#include "flattener.hpp"
+#include "mo/frontend/printer.hpp"
+
+#include <fmt/format.h>
+
+namespace mo::frontend::detail {
+
+using ast::EquationKind;
+using ast::Expr;
+using ast::ExprKind;
+using ast::ExprPtr;
+
+namespace {
+
+enum class ValueKind { Number, Boolean, String };
+
+/// The kind of value a flat expression has (coarse, for binding checks).
+ValueKind value_kind(const Expr &e, const flat::Model &m) {
+  switch (e.kind) {
+  case ExprKind::String: return ValueKind::String;
+  case ExprKind::Boolean: return ValueKind::Boolean;
+  case ExprKind::Binary:
+    if (e.op >= ast::Op::Lt && e.op <= ast::Op::Or) return ValueKind::Boolean;
+    return ValueKind::Number;
+  case ExprKind::Unary: return e.op == ast::Op::Not ? ValueKind::Boolean : ValueKind::Number;
+  case ExprKind::Ref:
+    if (e.var >= 0) {
+      auto t = m.variables[e.var].type;
+      return t == flat::BaseType::Boolean ? ValueKind::Boolean
+             : t == flat::BaseType::String ? ValueKind::String : ValueKind::Number;
+    }
+    return ValueKind::Number;
+  case ExprKind::If: return value_kind(*e.args[1], m);
+  default: return ValueKind::Number;
+  }
+}
+
+const char *value_kind_text(ValueKind k) {
+  return k == ValueKind::String ? "a String" : k == ValueKind::Boolean ? "a Boolean" : "a number";
+}
+
+} // namespace
+
+bool Flattener::is_constant(const Expr &e) const {
+  std::vector<const Expr *> work{&e};
+  while (!work.empty()) {
+    const Expr *x = work.back();
+    work.pop_back();
+    if (x->kind == ExprKind::Ref) {
+      if (x->var < 0) return false; // time
+      auto v = model_->variables[x->var].variability;
+      if (v != ast::Variability::Parameter && v != ast::Variability::Constant) return false;
+    }
+    if (x->kind == ExprKind::Call) {
+      const std::string &n = x->ref.parts.empty() ? "" : x->ref.parts[0].name;
+      if (x->var >= 0 || n == "der" || n == "pre" || n == "initial" || n == "terminal" ||
+          n == "sample" || n == "edge" || n == "change" || n == "delay")
+        return false;
+    }
+    for (const auto &a : x->args)
+      if (a) work.push_back(a.get());
+  }
+  return true;
+}
+
+void Flattener::flatten_bindings() {
+  for (auto &p : pending_) {
+    if (!p.mod.binding)
+      continue; // already flattened on demand (a parameter used as a size)
+    try {
+      flat::Variable &v = model_->variables[p.var];
+      const std::string &a = p.attribute;
+      if (a == "unit" || a == "displayUnit" || a == "quantity") {
+        ExprPtr e = binding_expr(p.mod);
+        if (e->kind != ExprKind::String)
+          fail(DiagId::TypeMismatch, p.mod.binding->range, "attribute '" + a + "' must be a string");
+        (a == "unit" ? v.attr.unit : a == "displayUnit" ? v.attr.display_unit : v.attr.quantity) = e->text;
+        continue;
+      }
+      if (a == "stateSelect") {
+        ExprPtr e = binding_expr(p.mod);
+        static const char *const kLevels[] = {"never", "avoid", "default", "prefer", "always"};
+        if (e->kind != ExprKind::Integer || e->number < 1 || e->number > 5)
+          fail(DiagId::TypeMismatch, p.mod.binding->range, "stateSelect must be a StateSelect literal");
+        model_->variables[p.var].attr.state_select = kLevels[static_cast<int>(e->number) - 1];
+        continue;
+      }
+      ExprPtr e = binding_expr(p.mod);
+      flat::Variable &var = model_->variables[p.var];
+      ValueKind got = value_kind(*e, *model_);
+      ValueKind want = a == "fixed" || a == "free" ? ValueKind::Boolean
+                       : var.type == flat::BaseType::Boolean && (a.empty() || a == "start") ? ValueKind::Boolean
+                       : var.type == flat::BaseType::String ? ValueKind::String : ValueKind::Number;
+      if (got != want)
+        fail(DiagId::TypeMismatch, p.mod.binding->range,
+             fmt::format("{} of {} '{}' must be {}, not {}", a.empty() ? "the value" : "attribute '" + a + "'",
+                         flat::base_type_text(var.type), var.name, value_kind_text(want), value_kind_text(got)));
+      if (a.empty()) {
+        if (var.variability == ast::Variability::Parameter || var.variability == ast::Variability::Constant) {
+          var.binding = std::move(e);
+        } else {
+          ast::Equation eq;
+          eq.kind = EquationKind::Simple;
+          eq.range = p.mod.binding->range;
+          eq.lhs = ast::make_ref(var.name, var.range);
+          eq.lhs->var = p.var;
+          eq.rhs = std::move(e);
+          model_->equations.push_back(std::move(eq));
+        }
+      } else {
+        ExprPtr *slot = a == "start" ? &var.attr.start : a == "fixed" ? &var.attr.fixed
+                      : a == "min" ? &var.attr.min : a == "max" ? &var.attr.max
+                      : a == "nominal" ? &var.attr.nominal : a == "free" ? &var.attr.free
+                      : &var.attr.initial_guess;
+        *slot = std::move(e);
+      }
+      p.mod.binding = nullptr;
+    } catch (Reported &) {
+      if (p.attribute.empty()) { // do not also warn that it has no value
+        param_state_.resize(model_->variables.size(), 0);
+        param_state_[p.var] = 3;
+      }
+    }
+  }
+}
+
+void Flattener::flatten_equations(Instance &top) {
+  flatten_bindings();
+  // Instances were recorded in creation order: parents before children.
+  for (Instance *inst : all_instances_) {
+    for (auto &[eq, cls] : inst->equations) {
+      try {
+        equation(*eq, Scope{inst, cls, nullptr}, model_->equations);
+      } catch (Reported &) {
+      }
+    }
+    for (auto &[eq, cls] : inst->initial_equations) {
+      try {
+        equation(*eq, Scope{inst, cls, nullptr}, model_->initial_equations);
+      } catch (Reported &) {
+      }
+    }
+  }
+  if (top.cls->def->restriction == ast::Restriction::Optimization)
+    flatten_optimization();
+  else if (!top.constraints.empty())
+    diags_.report(DiagId::BadOptimization, top.constraints.front().first->range,
+                  "constraint sections are only allowed in optimization classes");
+  for (std::int32_t i = 0; i < static_cast<std::int32_t>(model_->variables.size()); ++i) {
+    const flat::Variable &v = model_->variables[i];
+    if (v.variability != ast::Variability::Parameter)
+      continue;
+    if (i < static_cast<std::int32_t>(param_state_.size()) && param_state_[i] == 3)
+      continue; // its binding already has an error
+    if (!v.binding && !v.attr.start) {
+      diags_.report(DiagId::ParameterWithoutValue, v.range, "parameter '" + v.name + "' has no value");
+      continue;
+    }
+    try {
+      if (is_constant(v.binding ? *v.binding : *v.attr.start))
+        eval_param(i, v.range);
+    } catch (Reported &) {
+    }
+  }
+}
+
+void Flattener::flatten_optimization() {
+  const ast::ClassDef &def = *top_->cls->def;
+  flat::Optimization opt;
+  opt.range = def.range;
+  Scope s{top_.get(), top_->cls, nullptr, true};
+  for (const ast::ElementMod &em : def.class_mod.args) {
+    std::string n = em.path.empty() ? "" : em.path[0];
+    ExprPtr *slot = n == "objective" ? &opt.objective : n == "objectiveIntegrand" ? &opt.objective_integrand
+                  : n == "startTime" ? &opt.start_time : n == "finalTime" ? &opt.final_time : nullptr;
+    if (!slot || em.path.size() != 1 || !em.mod.binding) {
+      diags_.report(DiagId::BadOptimization, em.range,
+                    "'" + n + "' is not an attribute of an optimization class (expected objective, "
+                              "objectiveIntegrand, startTime or finalTime with a value)");
+      continue;
+    }
+    try {
+      *slot = scalar_expr(*em.mod.binding, s);
+    } catch (Reported &) {
+    }
+  }
+  // Constraints may be written in any class of the problem (usually the top).
+  for (Instance *inst : all_instances_)
+    for (auto &[eq, cls] : inst->constraints) {
+      try {
+        Scope cs{inst, cls, nullptr, true};
+        equation(*eq, cs, opt.constraints);
+      } catch (Reported &) {
+      }
+    }
+  model_->optimization = std::move(opt);
+}
+
+void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out) {
+  switch (eq.kind) {
+  case EquationKind::Simple:
+  case EquationKind::Constraint: {
+    Tensor l = expr(*eq.lhs, s);
+    Tensor r = expr(*eq.rhs, s);
+    if (l.dims != r.dims && !(eq.kind == EquationKind::Constraint && r.is_scalar()))
+      fail(DiagId::TypeMismatch, eq.range,
+           fmt::format("the two sides of this equation have different sizes ({} and {} elements)",
+                       l.elems.size(), r.elems.size()));
+    for (std::size_t i = 0; i < l.elems.size(); ++i) {
+      ValueKind lk = value_kind(*l.elems[i], *model_), rk = value_kind(*r.elems[0], *model_);
+      if (lk == ValueKind::String || rk == ValueKind::String)
+        fail(DiagId::TypeMismatch, eq.range, "strings cannot appear in equations");
+      if (eq.kind == EquationKind::Simple && lk != rk)
+        fail(DiagId::TypeMismatch, eq.range,
+             fmt::format("this equation sets {} equal to {}", value_kind_text(lk), value_kind_text(rk)));
+      ast::Equation f;
+      f.kind = eq.kind;
+      f.rel = eq.rel;
+      f.range = eq.range;
+      f.lhs = std::move(l.elems[i]);
+      f.rhs = r.is_scalar() ? r.elems[0]->clone() : std::move(r.elems[i]);
+      out.push_back(std::move(f));
+    }
+    return;
+  }
+  case EquationKind::Connect:
+    if (s.in_when)
+      fail(DiagId::Unsupported, eq.range, "connect() inside a when-clause is not allowed");
+    connect(eq, s);
+    return;
+  case EquationKind::For: {
+    // Nested loops over every index, innermost last.
+    LoopEnv env = s.env ? *s.env : LoopEnv{};
+    std::function<void(std::size_t)> loop = [&](std::size_t k) {
+      if (k == eq.indices.size()) {
+        Scope inner = s;
+        inner.env = &env;
+        for (const auto &b : eq.body)
+          equation(b, inner, out);
+        return;
+      }
+      if (!eq.indices[k].range)
+        fail(DiagId::Unsupported, eq.indices[k].loc, "for-loops without 'in range' are not supported");
+      Scope rs = s;
+      rs.env = &env;
+      for (double v : eval_range(*eq.indices[k].range, rs)) {
+        env.values.emplace_back(eq.indices[k].name, v);
+        loop(k + 1);
+        env.values.pop_back();
+      }
+    };
+    loop(0);
+    return;
+  }
+  case EquationKind::If: {
+    // Branches under parameter conditions are chosen now; otherwise the
+    // if-equation stays, each branch flattened.
+    ast::Equation f;
+    f.kind = EquationKind::If;
+    f.range = eq.range;
+    for (const auto &b : eq.branches) {
+      ExprPtr c;
+      if (b.condition) {
+        c = scalar_expr(*b.condition, s);
+        if (is_constant(*c) && f.branches.empty()) {
+          if (eval(*c, b.condition->range) == 0)
+            continue;
+          for (const auto &x : b.body)
+            equation(x, s, out);
+          return;
+        }
+      } else if (f.branches.empty()) {
+        for (const auto &x : b.body)
+          equation(x, s, out);
+        return;
+      }
+      ast::EquationBranch fb{std::move(c), {}, b.range};
+      for (const auto &x : b.body)
+        equation(x, s, fb.body);
+      f.branches.push_back(std::move(fb));
+    }
+    if (!f.branches.empty()) {
+      std::size_t n = 0;
+      for (const auto &x : f.branches[0].body) n += flat::equation_count(x);
+      for (const auto &b : f.branches) {
+        std::size_t m = 0;
+        for (const auto &x : b.body) m += flat::equation_count(x);
+        if (m != n)
+          fail(DiagId::UnbalancedModel, b.range,
+               fmt::format("the branches of this if-equation have different numbers of equations ({} and {})", n, m));
+      }
+      if (f.branches.back().condition == nullptr || n == 0)
+        out.push_back(std::move(f));
+      else
+        fail(DiagId::UnbalancedModel, eq.range, "an if-equation with time-varying conditions needs an else branch");
+    }
+    return;
+  }
+  case EquationKind::When: {
+    if (s.in_when)
+      fail(DiagId::Unsupported, eq.range, "when-clauses cannot be nested");
+    ast::Equation f;
+    f.kind = EquationKind::When;
+    f.range = eq.range;
+    Scope inner = s;
+    inner.in_when = true;
+    for (const auto &b : eq.branches) {
+      Tensor c = expr(*b.condition, s);
+      ExprPtr cond;
+      if (c.is_scalar()) {
+        cond = std::move(c.elems[0]);
+      } else {
+        cond = std::make_unique<Expr>(ExprKind::Array, b.condition->range);
+        for (auto &x : c.elems) cond->args.push_back(std::move(x));
+      }
+      ast::EquationBranch fb{std::move(cond), {}, b.range};
+      for (const auto &x : b.body)
+        equation(x, inner, fb.body);
+      f.branches.push_back(std::move(fb));
+    }
+    out.push_back(std::move(f));
+    return;
+  }
+  case EquationKind::Call: {
+    const Expr &call = *eq.lhs;
+    const std::string n = call.ref.str();
+    if (n == "reinit") {
+      if (!s.in_when)
+        fail(DiagId::Unsupported, eq.range, "reinit() is only allowed inside a when-clause");
+      if (call.args.size() != 2)
+        fail(DiagId::WrongArgumentCount, call.range, fmt::format("reinit() takes 2 arguments, {} given", call.args.size()));
+    } else if (n == "assert") {
+      if (call.args.size() < 2 || call.args.size() > 3)
+        fail(DiagId::WrongArgumentCount, call.range, "assert() takes 2 or 3 arguments");
+    } else if (n != "terminate") {
+      fail(DiagId::Unsupported, call.range, "'" + n + "(...)' cannot be used as an equation");
+    }
+    Tensor first = call.args.empty() ? Tensor{} : expr(*call.args[0], s);
+    std::size_t count = call.args.empty() ? 1 : first.elems.size();
+    std::vector<Tensor> rest;
+    for (std::size_t i = 1; i < call.args.size(); ++i)
+      rest.push_back(expr(*call.args[i], s));
+    for (std::size_t k = 0; k < count; ++k) {
+      auto c = std::make_unique<Expr>(ExprKind::Call, call.range);
+      c->ref = ast::ComponentRef{};
+      c->ref.parts.push_back(ast::RefPart{n, {}});
+      if (!call.args.empty())
+        c->args.push_back(first.elems[k]->clone());
+      for (auto &t : rest)
+        c->args.push_back((t.is_scalar() ? t.elems[0] : t.elems.at(k))->clone());
+      if (n == "reinit" && (c->args[0]->kind != ExprKind::Ref || c->args[0]->var < 0))
+        fail(DiagId::TypeMismatch, call.args[0]->range, "the first argument of reinit() must be a variable");
+      ast::Equation f;
+      f.kind = EquationKind::Call;
+      f.range = eq.range;
+      f.lhs = std::move(c);
+      out.push_back(std::move(f));
+    }
+    return;
+  }
+  }
+}
+
+} // namespace mo::frontend::detail
