@@ -21,8 +21,9 @@ target_link_libraries(mo_sundials INTERFACE
   ${SUNDIALS_cvodes_LIBRARY} ${SUNDIALS_idas_LIBRARY} ${SUNDIALS_nvecserial_LIBRARY}
   ${SUNDIALS_sunlinsoldense_LIBRARY} ${SUNDIALS_sunmatrixdense_LIBRARY})
 
+set(MO_ANTLR4_INCLUDE_DIR /usr/include/antlr4-runtime CACHE PATH "ANTLR4 C++ runtime headers")
 add_library(mo_antlr4 INTERFACE)
-target_include_directories(mo_antlr4 SYSTEM INTERFACE /usr/include/antlr4-runtime)
+target_include_directories(mo_antlr4 SYSTEM INTERFACE ${MO_ANTLR4_INCLUDE_DIR})
 target_link_libraries(mo_antlr4 INTERFACE antlr4_shared)
 
 if(MO_BUILD_TESTS)

@@ -2,9 +2,13 @@
 # -Werror=switch: a new expression kind fails to compile where it is not handled.
 add_library(mo_warnings INTERFACE)
 target_compile_options(mo_warnings INTERFACE
-  -Wall -Wextra -Wpedantic -Wshadow=local -Wnon-virtual-dtor -Werror=switch
-  -Werror=return-type)
+  -Wall -Wextra -Wpedantic -Wnon-virtual-dtor -Werror=switch -Werror=return-type
+  $<$<CXX_COMPILER_ID:GNU>:-Wshadow=local>)
 if(MO_SANITIZE)
   add_compile_options(-fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=undefined)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+if(MO_FUZZ)
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-omit-frame-pointer)
   add_link_options(-fsanitize=address,undefined)
 endif()

@@ -232,7 +232,6 @@ static Tensor elementwise(Tensor a, const std::function<ExprPtr(ExprPtr)> &fn) {
 }
 
 static Tensor binary(Flattener &f, Op op, Tensor a, Tensor b, SourceRange r) {
-  auto pair = [&](ExprPtr x, ExprPtr y) { return ast::make_binary(op, std::move(x), std::move(y), r); };
   Op scalar_op = op == Op::ElemAdd ? Op::Add : op == Op::ElemSub ? Op::Sub : op == Op::ElemMul ? Op::Mul
                : op == Op::ElemDiv ? Op::Div : op == Op::ElemPow ? Op::Pow : op;
   auto spair = [&](ExprPtr x, ExprPtr y) { return ast::make_binary(scalar_op, std::move(x), std::move(y), r); };

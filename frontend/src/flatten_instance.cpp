@@ -322,7 +322,9 @@ void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifi
   static const char *const kAttributes[] = {"start", "fixed", "min", "max", "nominal", "unit",
                                             "displayUnit", "quantity", "stateSelect", "free",
                                             "initialGuess"};
-  for (const auto &[name, sub] : mod.sub) {
+  for (const auto &entry : mod.sub) {
+    const std::string &name = entry.first;
+    const Modifier &sub = entry.second;
     bool known = std::find_if(std::begin(kAttributes), std::end(kAttributes),
                               [&](const char *a) { return name == a; }) != std::end(kAttributes);
     if (!known) {

@@ -72,7 +72,7 @@ private:
     }
     std::vector<std::string> names;
     for (auto t : set.toList()) {
-      if (t == antlr4::Token::EOF) {
+      if (t == static_cast<ssize_t>(antlr4::Token::EOF)) {
         names.push_back("end of file");
         continue;
       }
@@ -80,8 +80,7 @@ private:
       if (n == "IDENT") n = "an identifier";
       else if (n == "UNSIGNED_NUMBER") n = "a number";
       else if (n == "STRING") n = "a string";
-      else if (n.size() > 1 && n.front() == '\'') n = n; // literal like ';'
-      else {
+      else if (n.size() <= 1 || n.front() != '\'') { // a token name, not a literal like ';'
         for (auto &c : n) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
         n = "'" + n + "'";
       }
