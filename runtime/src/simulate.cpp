@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdlib>
 
 namespace mo::runtime {
 
@@ -258,8 +259,10 @@ void Simulation::fail(SimulationStatus status, std::string message) {
 }
 
 void Simulation::fail_cvode(int flag, const char* call, double t) {
-  fail(status_of(flag), fmt::format("{} failed at t = {} ({}){}{}", call, t,
-                                    CVodeGetReturnFlagName(flag),
+  char* name = CVodeGetReturnFlagName(flag);  // malloc'ed by SUNDIALS: the caller frees it
+  std::string flag_name = name ? name : "unknown flag";
+  std::free(name);
+  fail(status_of(flag), fmt::format("{} failed at t = {} ({}){}{}", call, t, flag_name,
                                     last_error_.empty() ? "" : ": ", last_error_));
 }
 
