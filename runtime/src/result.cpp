@@ -57,6 +57,29 @@ std::string_view to_string(SimulationStatus status) {
   return "unknown";  // unreachable for valid enumerators; -Werror=switch guards additions
 }
 
+ResultTable sensitivity_table(const SimulationResult& result, const ModelInfo& info) {
+  if (result.state_sensitivities.empty()) return {};
+  const auto& params = result.sensitivity_parameters;
+  const auto nsx = static_cast<std::size_t>(result.state_sensitivities.front().rows());
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < nsx; ++i)
+    for (std::size_t j : params)
+      names.push_back("d(" + info.states[i].name + ")/d(" + info.parameters[j].name + ")");
+  for (const auto& y : info.outputs)
+    for (std::size_t j : params)
+      names.push_back("d(" + y.name + ")/d(" + info.parameters[j].name + ")");
+  ResultTable table(std::move(names));
+  std::vector<double> row;
+  for (std::size_t k = 0; k < result.state_sensitivities.size(); ++k) {
+    row.clear();
+    for (const Eigen::MatrixXd* m : {&result.state_sensitivities[k], &result.output_sensitivities[k]})
+      for (Eigen::Index i = 0; i < m->rows(); ++i)
+        for (Eigen::Index j = 0; j < m->cols(); ++j) row.push_back((*m)(i, j));
+    table.add_row(result.trajectory.times()[k], row);
+  }
+  return table;
+}
+
 namespace {
 
 [[noreturn]] void throw_errno(const std::string& what, const std::string& path) {

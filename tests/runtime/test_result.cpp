@@ -106,3 +106,28 @@ TEST_CASE("JSON summary of a simulation", "[result]") {
   CHECK(j["columns"] == nlohmann::json::array({"h", "v", "height"}));
   CHECK(j["rows"] == 11);
 }
+
+TEST_CASE("Sensitivities as a named table, written as CSV", "[result]") {
+  fixtures::LinearDecay model;
+  SimulationOptions o;
+  o.sensitivities.method = SensitivityMethod::cvodes_analytic;
+  o.sensitivities.parameters = {1};
+  Inputs inputs;
+  inputs.add(constant_input(0.0));
+  auto result = simulate(model, inputs, model.info().default_parameters(),
+                         OutputGrid::uniform(0, 1, 4), o);
+  REQUIRE(result.ok());
+  ResultTable table = sensitivity_table(result, model.info());
+  CHECK(table.names() ==
+        std::vector<std::string>{"d(a)/d(a0)", "d(b)/d(a0)", "d(a_out)/d(a0)", "d(kb)/d(a0)"});
+  REQUIRE(table.rows() == 5);
+  CHECK(table.at(0, 0) == 1.0);  // S(0) = ∂x0/∂a0
+  CHECK(table.at(4, 0) == Approx(std::exp(-2.0)).epsilon(1e-5));
+  fs::path path = scratch_dir("sens") / "sens.csv";
+  write_csv_atomic(path.string(), table);
+  CHECK(slurp(path).rfind("time,d(a)/d(a0),d(b)/d(a0),d(a_out)/d(a0),d(kb)/d(a0)\n0,1,0,1,0\n", 0) == 0);
+  CHECK(sensitivity_table(simulate(model, inputs, model.info().default_parameters(),
+                                   OutputGrid::uniform(0, 1, 4)),
+                          model.info())
+            .rows() == 0);
+}

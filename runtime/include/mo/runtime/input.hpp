@@ -20,6 +20,7 @@ namespace mo::runtime {
 /// One scalar input signal s(t).
 class InputSignal {
 public:
+  /// Signals are owned through InputSignal pointers.
   virtual ~InputSignal() = default;
   /// s(t), right-continuous at jumps.
   [[nodiscard]] virtual double value(double t) const = 0;
@@ -62,6 +63,7 @@ struct InputTable {
 /// A CSV input file that could not be read; what() is `file.csv:line: error: ...`.
 class InputFileError : public std::runtime_error {
 public:
+  /// Takes the complete message, `file.csv:line: error: ...`.
   using std::runtime_error::runtime_error;
 };
 
@@ -84,6 +86,7 @@ std::unique_ptr<InputSignal> table_input(std::shared_ptr<const InputTable> table
 /// The inputs of a model: one signal per model input, in the model's order.
 class Inputs {
 public:
+  /// No signals: for models without inputs.
   Inputs() = default;
   /// Takes ownership of one signal per input.
   explicit Inputs(std::vector<std::unique_ptr<InputSignal>> signals);

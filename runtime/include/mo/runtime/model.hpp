@@ -101,10 +101,13 @@ struct ModelInfo {
   std::vector<Variable> discrete;      ///< d (Real, Integer and Boolean alike, as double)
   std::size_t num_event_indicators = 0;  ///< ng
 
-  /// Index of the state/input/output/parameter named `name`, or nullopt.
+  /// Index of the state named `name`, or nullopt.
   [[nodiscard]] std::optional<std::size_t> state_index(std::string_view name) const;
+  /// Index of the input named `name`, or nullopt.
   [[nodiscard]] std::optional<std::size_t> input_index(std::string_view name) const;
+  /// Index of the output named `name`, or nullopt.
   [[nodiscard]] std::optional<std::size_t> output_index(std::string_view name) const;
+  /// Index of the parameter named `name`, or nullopt.
   [[nodiscard]] std::optional<std::size_t> parameter_index(std::string_view name) const;
   /// Default parameter values, in order.
   [[nodiscard]] std::vector<double> default_parameters() const;
@@ -141,6 +144,7 @@ struct EventResponse {
 /// is reported by the caller that sees it.
 class Model {
 public:
+  /// Generated models are owned through Model pointers.
   virtual ~Model() = default;
 
   /// Names, units, attributes and sizes; the same object for the model's life.

@@ -10,6 +10,8 @@
 // old file or the complete new one, never a partial file.
 #pragma once
 
+#include "mo/runtime/model.hpp"
+
 #include <Eigen/Dense>
 
 #include <functional>
@@ -24,6 +26,7 @@ namespace mo::runtime {
 /// A table of samples: one time column and named value columns, row by row.
 class ResultTable {
 public:
+  /// A table without columns or rows.
   ResultTable() = default;
   /// An empty table with the given value column names (time is implicit).
   explicit ResultTable(std::vector<std::string> names) : names_(std::move(names)) {}
@@ -103,6 +106,11 @@ struct SimulationResult {
            status == SimulationStatus::terminated_by_model;
   }
 };
+
+/// The sensitivities of `result` as a table over its times, columns
+/// `d(<state>)/d(<parameter>)` then `d(<output>)/d(<parameter>)`, names from
+/// `info` (the model simulated). Empty (no columns, no rows) without sensitivities.
+ResultTable sensitivity_table(const SimulationResult& result, const ModelInfo& info);
 
 /// Writes the bytes that `write` produces to `path` atomically (temporary file
 /// in the same directory, fsync, rename, fsync of the directory). If `write`
