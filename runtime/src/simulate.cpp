@@ -1,0 +1,574 @@
+// CVODES driver: segments between stops (input breakpoints, time events, end),
+// root finding for state events, event iteration, restarts, sensitivities.
+#include "mo/runtime/simulate.hpp"
+
+#include <cvodes/cvodes.h>
+#include <nvector/nvector_serial.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+
+namespace mo::runtime {
+
+OutputGrid OutputGrid::uniform(double t0, double t_end, std::size_t intervals) {
+  OutputGrid grid;
+  if (intervals == 0) {
+    grid.times = {t0, t_end};
+    return grid;
+  }
+  grid.times.reserve(intervals + 1);
+  for (std::size_t k = 0; k <= intervals; ++k)
+    grid.times.push_back(k == intervals ? t_end
+                                        : t0 + (t_end - t0) * static_cast<double>(k) /
+                                                   static_cast<double>(intervals));
+  return grid;
+}
+
+namespace {
+
+// --- RAII owners of SUNDIALS objects ----------------------------------------
+
+struct Context {
+  SUNContext ctx = nullptr;
+  Context() { SUNContext_Create(nullptr, &ctx); }
+  ~Context() { SUNContext_Free(&ctx); }
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+};
+
+struct Vector {
+  N_Vector v = nullptr;
+  Vector(sunindextype n, SUNContext ctx) : v(N_VNew_Serial(n, ctx)) {}
+  ~Vector() { N_VDestroy(v); }
+  Vector(const Vector&) = delete;
+  Vector& operator=(const Vector&) = delete;
+  double* data() const { return N_VGetArrayPointer(v); }
+};
+
+struct VectorArray {
+  N_Vector* v = nullptr;
+  int count = 0;
+  VectorArray(int n, N_Vector like) : v(n > 0 ? N_VCloneVectorArray(n, like) : nullptr), count(n) {}
+  ~VectorArray() {
+    if (v) N_VDestroyVectorArray(v, count);
+  }
+  VectorArray(const VectorArray&) = delete;
+  VectorArray& operator=(const VectorArray&) = delete;
+};
+
+struct Cvode {
+  void* mem = nullptr;
+  SUNMatrix matrix = nullptr;
+  SUNLinearSolver solver = nullptr;
+  ~Cvode() {
+    CVodeFree(&mem);
+    if (solver) SUNLinSolFree(solver);
+    if (matrix) SUNMatDestroy(matrix);
+  }
+};
+
+SimulationStatus status_of(int flag) {
+  switch (flag) {
+  case CV_TOO_MUCH_WORK: return SimulationStatus::too_much_work;
+  case CV_TOO_MUCH_ACC: return SimulationStatus::too_much_accuracy;
+  case CV_ERR_FAILURE: return SimulationStatus::error_test_failure;
+  case CV_CONV_FAILURE: return SimulationStatus::convergence_failure;
+  case CV_LINIT_FAIL:
+  case CV_LSETUP_FAIL:
+  case CV_LSOLVE_FAIL: return SimulationStatus::linear_solver_failure;
+  case CV_RHSFUNC_FAIL:
+  case CV_FIRST_RHSFUNC_ERR:
+  case CV_REPTD_RHSFUNC_ERR:
+  case CV_UNREC_RHSFUNC_ERR:
+  case CV_SRHSFUNC_FAIL:
+  case CV_FIRST_SRHSFUNC_ERR:
+  case CV_REPTD_SRHSFUNC_ERR:
+  case CV_UNREC_SRHSFUNC_ERR: return SimulationStatus::rhs_failure;
+  case CV_RTFUNC_FAIL: return SimulationStatus::event_indicator_failure;
+  default: return SimulationStatus::solver_error;
+  }
+}
+
+bool all_finite(std::span<const double> v) {
+  return std::all_of(v.begin(), v.end(), [](double a) { return std::isfinite(a); });
+}
+
+// One simulate() call: the state CVODES' callbacks need, and the driver loop.
+class Simulation {
+public:
+  Simulation(Model& model, const Inputs& inputs, std::span<const double> p,
+             const OutputGrid& grid, const SimulationOptions& options)
+      : model_(model), info_(model.info()), inputs_(inputs), p_(p.begin(), p.end()),
+        grid_(grid), options_(options), nx_(info_.states.size()), nu_(info_.inputs.size()),
+        ny_(info_.outputs.size()), ng_(info_.num_event_indicators), u_(nu_), y_(ny_) {}
+
+  SimulationResult run();
+
+private:
+  // CVODES callbacks; user_data is the Simulation.
+  static int rhs_callback(double t, N_Vector x, N_Vector xdot, void* self);
+  static int jacobian_callback(double t, N_Vector x, N_Vector fx, SUNMatrix jac, void* self,
+                               N_Vector, N_Vector, N_Vector);
+  static int sensitivity_callback(int ns, double t, N_Vector x, N_Vector xdot, N_Vector* s,
+                                  N_Vector* sdot, void* self, N_Vector, N_Vector);
+  static int root_callback(double t, N_Vector x, double* g, void* self);
+  static void error_callback(int code, const char* module, const char* function, char* msg,
+                             void* self);
+
+  std::string validate() const;
+  bool set_up();
+  void evaluate_inputs(double t);
+  void record(double t);
+  bool restart(double t);
+  bool handle_event(double t, std::span<const int> crossings, bool time_event, bool& changed);
+  void harvest_statistics();
+  void fail(SimulationStatus status, std::string message);
+  void fail_cvode(int flag, const char* call, double t);
+  std::span<const double> states() const { return {x_->data(), nx_}; }
+
+  Model& model_;
+  const ModelInfo& info_;
+  const Inputs& inputs_;
+  std::vector<double> p_;  // CVODES' difference quotients perturb it in place
+  const OutputGrid& grid_;
+  const SimulationOptions& options_;
+  std::size_t nx_, nu_, ny_, ng_;
+  std::vector<double> u_, y_;
+  double segment_end_ = 0.0;  // inputs are left limits at t >= segment_end_
+
+  SensitivityMethod sens_method_ = SensitivityMethod::none;
+  std::vector<int> sens_params_;           // J
+  std::vector<std::size_t> sens_states_;   // model_states: state index of S(i, j), row-major
+  int ism_ = CV_STAGGERED;
+  std::vector<double> fx_values_, fp_values_, hx_values_, hp_values_;
+
+  Context context_;
+  Cvode cvode_;
+  std::unique_ptr<Vector> x_;
+  std::unique_ptr<VectorArray> s_;
+  std::vector<double> pbar_;
+  std::string last_error_;
+  SimulationResult result_;
+};
+
+int Simulation::rhs_callback(double t, N_Vector x, N_Vector xdot, void* self) {
+  auto& sim = *static_cast<Simulation*>(self);
+  sim.evaluate_inputs(t);
+  std::span<double> out(N_VGetArrayPointer(xdot), sim.nx_);
+  sim.model_.rhs(t, {N_VGetArrayPointer(x), sim.nx_}, sim.u_, sim.p_, out);
+  return all_finite(out) ? 0 : 1;  // recoverable: CVODES retries with a smaller step
+}
+
+int Simulation::jacobian_callback(double t, N_Vector x, N_Vector, SUNMatrix jac, void* self,
+                                  N_Vector, N_Vector, N_Vector) {
+  auto& sim = *static_cast<Simulation*>(self);
+  sim.evaluate_inputs(t);
+  const Sparsity& sp = sim.model_.jacobian_sparsity(Jacobian::f_x);
+  sim.model_.jacobian_values(Jacobian::f_x, t, {N_VGetArrayPointer(x), sim.nx_}, sim.u_, sim.p_,
+                             sim.fx_values_);
+  if (!all_finite(sim.fx_values_)) return 1;
+  SUNMatZero(jac);
+  for (int c = 0; c < sp.cols; ++c) {
+    double* column = SUNDenseMatrix_Column(jac, c);
+    for (int k = sp.col_start[c]; k < sp.col_start[c + 1]; ++k)
+      column[sp.row_index[k]] = sim.fx_values_[k];
+  }
+  return 0;
+}
+
+int Simulation::sensitivity_callback(int ns, double t, N_Vector x, N_Vector, N_Vector* s,
+                                     N_Vector* sdot, void* self, N_Vector, N_Vector) {
+  auto& sim = *static_cast<Simulation*>(self);
+  sim.evaluate_inputs(t);
+  std::span<const double> xs(N_VGetArrayPointer(x), sim.nx_);
+  const Sparsity& fx = sim.model_.jacobian_sparsity(Jacobian::f_x);
+  const Sparsity& fp = sim.model_.jacobian_sparsity(Jacobian::f_p);
+  sim.model_.jacobian_values(Jacobian::f_x, t, xs, sim.u_, sim.p_, sim.fx_values_);
+  sim.model_.jacobian_values(Jacobian::f_p, t, xs, sim.u_, sim.p_, sim.fp_values_);
+  for (int j = 0; j < ns; ++j) {
+    const double* sj = N_VGetArrayPointer(s[j]);
+    double* out = N_VGetArrayPointer(sdot[j]);
+    std::fill(out, out + sim.nx_, 0.0);
+    for (int c = 0; c < fx.cols; ++c) {  // out += f_x · s_j
+      if (sj[c] == 0.0) continue;
+      for (int k = fx.col_start[c]; k < fx.col_start[c + 1]; ++k)
+        out[fx.row_index[k]] += sim.fx_values_[k] * sj[c];
+    }
+    int pj = sim.sens_params_[j];  // out += f_p(:, p_j)
+    for (int k = fp.col_start[pj]; k < fp.col_start[pj + 1]; ++k)
+      out[fp.row_index[k]] += sim.fp_values_[k];
+    if (!all_finite({out, sim.nx_})) return 1;
+  }
+  return 0;
+}
+
+int Simulation::root_callback(double t, N_Vector x, double* g, void* self) {
+  auto& sim = *static_cast<Simulation*>(self);
+  sim.evaluate_inputs(t);
+  std::span<double> out(g, sim.ng_);
+  sim.model_.event_indicators(t, {N_VGetArrayPointer(x), sim.nx_}, sim.u_, sim.p_, out);
+  return all_finite(out) ? 0 : -1;
+}
+
+void Simulation::error_callback(int code, const char*, const char* function, char* msg,
+                                void* self) {
+  if (code < 0) static_cast<Simulation*>(self)->last_error_ = fmt::format("{}: {}", function, msg);
+}
+
+void Simulation::evaluate_inputs(double t) {
+  if (t >= segment_end_)
+    inputs_.evaluate_before(t, u_);
+  else
+    inputs_.evaluate(t, u_);
+}
+
+std::string Simulation::validate() const {
+  const auto& times = grid_.times;
+  if (nx_ == 0) return "model has no states";
+  if (times.empty()) return "output grid is empty";
+  for (std::size_t k = 0; k < times.size(); ++k) {
+    if (!std::isfinite(times[k])) return fmt::format("output time {} is not finite", k);
+    if (k > 0 && times[k] < times[k - 1]) return "output times decrease";
+  }
+  if (inputs_.size() != nu_)
+    return fmt::format("{} input signals for {} model inputs", inputs_.size(), nu_);
+  if (p_.size() != info_.parameters.size())
+    return fmt::format("{} parameter values for {} model parameters", p_.size(),
+                       info_.parameters.size());
+  if (!(options_.relative_tolerance > 0.0) || !(options_.absolute_tolerance > 0.0))
+    return "tolerances must be positive";
+  const auto& sens = options_.sensitivities;
+  for (std::size_t j : sens.parameters)
+    if (j >= p_.size()) return fmt::format("sensitivity parameter index {} out of range", j);
+  if ((sens.method == SensitivityMethod::cvodes_analytic ||
+       sens.method == SensitivityMethod::cvodes_difference) &&
+      sens.parameters.empty())
+    return "CVODES sensitivities need a non-empty parameter list";
+  return {};
+}
+
+void Simulation::fail(SimulationStatus status, std::string message) {
+  result_.status = status;
+  result_.message = std::move(message);
+}
+
+void Simulation::fail_cvode(int flag, const char* call, double t) {
+  char* name = CVodeGetReturnFlagName(flag);  // malloc'ed by SUNDIALS: the caller frees it
+  std::string flag_name = name ? name : "unknown flag";
+  std::free(name);
+  fail(status_of(flag), fmt::format("{} failed at t = {} ({}){}{}", call, t, flag_name,
+                                    last_error_.empty() ? "" : ": ", last_error_));
+}
+
+bool Simulation::set_up() {
+  double t0 = grid_.times.front();
+  auto n = static_cast<sunindextype>(nx_);
+  x_ = std::make_unique<Vector>(n, context_.ctx);
+  std::span<double> x(x_->data(), nx_);
+  model_.initial_state(p_, x);
+
+  const auto& sens = options_.sensitivities;
+  sens_method_ = sens.method;
+  ism_ = sens.staggered ? CV_STAGGERED : CV_SIMULTANEOUS;
+  fx_values_.resize(static_cast<std::size_t>(model_.jacobian_sparsity(Jacobian::f_x).nnz()));
+  fp_values_.resize(static_cast<std::size_t>(model_.jacobian_sparsity(Jacobian::f_p).nnz()));
+  hx_values_.resize(static_cast<std::size_t>(model_.jacobian_sparsity(Jacobian::h_x).nnz()));
+  hp_values_.resize(static_cast<std::size_t>(model_.jacobian_sparsity(Jacobian::h_p).nnz()));
+
+  if (sens_method_ == SensitivityMethod::model_states) {
+    // J: the requested parameters, or all that have sensitivity states.
+    std::vector<std::size_t> params = sens.parameters;
+    if (params.empty()) {
+      for (const auto& s : info_.states)
+        if (s.sensitivity) params.push_back(s.sensitivity->parameter);
+      std::sort(params.begin(), params.end());
+      params.erase(std::unique(params.begin(), params.end()), params.end());
+    }
+    std::size_t nb = info_.num_base_states();
+    sens_states_.assign(nb * params.size(), nx_);
+    for (std::size_t k = 0; k < nx_; ++k) {
+      const auto& s = info_.states[k].sensitivity;
+      if (!s) continue;
+      auto it = std::find(params.begin(), params.end(), s->parameter);
+      if (it != params.end() && s->state < nb)
+        sens_states_[s->state * params.size() + static_cast<std::size_t>(it - params.begin())] = k;
+    }
+    for (std::size_t k = 0; k < sens_states_.size(); ++k)
+      if (sens_states_[k] == nx_) {
+        fail(SimulationStatus::invalid_problem,
+             fmt::format("model has no sensitivity state d({})/d({})",
+                         info_.states[k / params.size()].name,
+                         info_.parameters[params[k % params.size()]].name));
+        return false;
+      }
+    for (std::size_t j : params) sens_params_.push_back(static_cast<int>(j));
+  } else if (sens_method_ != SensitivityMethod::none) {
+    for (std::size_t j : sens.parameters) sens_params_.push_back(static_cast<int>(j));
+  }
+  result_.sensitivity_parameters.assign(sens_params_.begin(), sens_params_.end());
+
+  cvode_.mem = CVodeCreate(CV_BDF, context_.ctx);
+  if (!cvode_.mem) {
+    fail(SimulationStatus::solver_error, "CVodeCreate failed (out of memory)");
+    return false;
+  }
+  void* cv = cvode_.mem;
+  CVodeSetErrHandlerFn(cv, error_callback, this);
+  int flag = CVodeInit(cv, rhs_callback, t0, x_->v);
+  if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeInit", t0), false;
+  CVodeSetUserData(cv, this);
+  Vector atol(n, context_.ctx);
+  for (std::size_t i = 0; i < nx_; ++i)
+    atol.data()[i] = options_.absolute_tolerance * std::abs(info_.states[i].nominal);
+  CVodeSVtolerances(cv, options_.relative_tolerance, atol.v);
+  CVodeSetMaxNumSteps(cv, options_.max_steps);
+  if (options_.max_step > 0.0) CVodeSetMaxStep(cv, options_.max_step);
+
+  cvode_.matrix = SUNDenseMatrix(n, n, context_.ctx);
+  cvode_.solver = SUNLinSol_Dense(x_->v, cvode_.matrix, context_.ctx);
+  flag = CVodeSetLinearSolver(cv, cvode_.solver, cvode_.matrix);
+  if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeSetLinearSolver", t0), false;
+  if (options_.use_model_jacobian) CVodeSetJacFn(cv, jacobian_callback);
+
+  if (ng_ > 0) {
+    flag = CVodeRootInit(cv, static_cast<int>(ng_), root_callback);
+    if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeRootInit", t0), false;
+    CVodeSetNoInactiveRootWarn(cv);
+  }
+
+  if (sens_method_ == SensitivityMethod::cvodes_analytic ||
+      sens_method_ == SensitivityMethod::cvodes_difference) {
+    int ns = static_cast<int>(sens_params_.size());
+    s_ = std::make_unique<VectorArray>(ns, x_->v);
+    // S(t0) = ∂x0/∂p_J
+    const Sparsity& x0p = model_.jacobian_sparsity(Jacobian::x0_p);
+    std::vector<double> x0p_values(static_cast<std::size_t>(x0p.nnz()));
+    model_.jacobian_values(Jacobian::x0_p, t0, x, u_, p_, x0p_values);
+    for (int j = 0; j < ns; ++j) {
+      N_VConst(0.0, s_->v[j]);
+      double* sj = N_VGetArrayPointer(s_->v[j]);
+      int pj = sens_params_[j];
+      for (int k = x0p.col_start[pj]; k < x0p.col_start[pj + 1]; ++k)
+        sj[x0p.row_index[k]] = x0p_values[k];
+    }
+    bool analytic = sens_method_ == SensitivityMethod::cvodes_analytic;
+    flag = CVodeSensInit(cv, ns, ism_, analytic ? sensitivity_callback : nullptr, s_->v);
+    if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeSensInit", t0), false;
+    pbar_.clear();
+    for (int pj : sens_params_) pbar_.push_back(p_[pj] != 0.0 ? std::abs(p_[pj]) : 1.0);
+    flag = CVodeSetSensParams(cv, analytic ? nullptr : p_.data(), pbar_.data(),
+                              analytic ? nullptr : sens_params_.data());
+    if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeSetSensParams", t0), false;
+    CVodeSensEEtolerances(cv);
+    CVodeSetSensErrCon(cv, options_.sensitivities.error_control ? SUNTRUE : SUNFALSE);
+  }
+  return true;
+}
+
+void Simulation::record(double t) {
+  inputs_.evaluate(t, u_);
+  std::span<const double> x = states();
+  model_.outputs(t, x, u_, p_, y_);
+  std::vector<double> row(x.begin(), x.end());
+  row.insert(row.end(), y_.begin(), y_.end());
+  result_.trajectory.add_row(t, row);
+  if (sens_method_ == SensitivityMethod::none) return;
+
+  // S_x: from CVODES' vectors or from the model's sensitivity states.
+  auto ns = static_cast<Eigen::Index>(sens_params_.size());
+  Eigen::MatrixXd sx;
+  if (sens_method_ == SensitivityMethod::model_states) {
+    auto nb = static_cast<Eigen::Index>(info_.num_base_states());
+    sx.resize(nb, ns);
+    for (Eigen::Index i = 0; i < nb; ++i)
+      for (Eigen::Index j = 0; j < ns; ++j)
+        sx(i, j) = x[sens_states_[static_cast<std::size_t>(i * ns + j)]];
+  } else {
+    sx.resize(static_cast<Eigen::Index>(nx_), ns);
+    for (Eigen::Index j = 0; j < ns; ++j)
+      sx.col(j) = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(s_->v[j]),
+                                                    static_cast<Eigen::Index>(nx_));
+  }
+  // S_y = ∂h/∂x · S_x + ∂h/∂p_J (columns of h_x beyond S_x's rows are sensitivity states: skipped)
+  Eigen::MatrixXd sy = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(ny_), ns);
+  const Sparsity& hx = model_.jacobian_sparsity(Jacobian::h_x);
+  const Sparsity& hp = model_.jacobian_sparsity(Jacobian::h_p);
+  model_.jacobian_values(Jacobian::h_x, t, x, u_, p_, hx_values_);
+  model_.jacobian_values(Jacobian::h_p, t, x, u_, p_, hp_values_);
+  for (int c = 0; c < std::min<int>(hx.cols, static_cast<int>(sx.rows())); ++c)
+    for (int k = hx.col_start[c]; k < hx.col_start[c + 1]; ++k)
+      sy.row(hx.row_index[k]) += hx_values_[k] * sx.row(c);
+  for (Eigen::Index j = 0; j < ns; ++j) {
+    int pj = sens_params_[static_cast<std::size_t>(j)];
+    for (int k = hp.col_start[pj]; k < hp.col_start[pj + 1]; ++k)
+      sy(hp.row_index[k], j) += hp_values_[k];
+  }
+  result_.state_sensitivities.push_back(std::move(sx));
+  result_.output_sensitivities.push_back(std::move(sy));
+}
+
+void Simulation::harvest_statistics() {
+  void* cv = cvode_.mem;
+  auto& st = result_.statistics;
+  long v = 0;
+  if (CVodeGetNumSteps(cv, &v) == CV_SUCCESS) st.steps += v;
+  if (CVodeGetNumRhsEvals(cv, &v) == CV_SUCCESS) st.rhs_evaluations += v;
+  if (CVodeGetNumJacEvals(cv, &v) == CV_SUCCESS) st.jacobian_evaluations += v;
+  if (CVodeGetNumErrTestFails(cv, &v) == CV_SUCCESS) st.error_test_failures += v;
+  if (CVodeGetNumNonlinSolvConvFails(cv, &v) == CV_SUCCESS)
+    st.nonlinear_convergence_failures += v;
+  if (s_ && CVodeGetSensNumRhsEvals(cv, &v) == CV_SUCCESS) st.sensitivity_rhs_evaluations += v;
+}
+
+// Re-initialises CVODES at t from the current x (and S): its counters restart.
+bool Simulation::restart(double t) {
+  harvest_statistics();
+  int flag = CVodeReInit(cvode_.mem, t, x_->v);
+  if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeReInit", t), false;
+  if (s_) {
+    flag = CVodeSensReInit(cvode_.mem, ism_, s_->v);
+    if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeSensReInit", t), false;
+  }
+  ++result_.statistics.restarts;
+  return true;
+}
+
+// Runs the handler (with event iteration) at t; `changed` says whether the
+// integrator must restart. Returns false if the simulation must stop.
+bool Simulation::handle_event(double t, std::span<const int> crossings, bool time_event,
+                              bool& changed) {
+  inputs_.evaluate(t, u_);
+  std::span<double> x(x_->data(), nx_);
+  EventCause cause{t, crossings, time_event};
+  changed = false;
+  bool terminate = false;
+  for (int iteration = 0;; ++iteration) {
+    if (iteration == options_.max_event_iterations) {
+      fail(SimulationStatus::event_iteration_limit,
+           fmt::format("event at t = {}: discrete variables still changing after {} "
+                       "handler iterations",
+                       t, options_.max_event_iterations));
+      return false;
+    }
+    EventResponse response = model_.handle_event(cause, x, u_, p_);
+    changed = changed || response.discrete_changed || response.states_reinit;
+    terminate = terminate || response.terminate;
+    if (!response.discrete_changed) break;
+    cause = EventCause{t, {}, false};
+  }
+  if (changed || time_event || terminate) {
+    result_.event_times.push_back(t);
+    if (++result_.statistics.events > options_.max_events) {
+      fail(SimulationStatus::event_limit,
+           fmt::format("more than {} events by t = {} (chattering or Zeno behaviour?)",
+                       options_.max_events, t));
+      return false;
+    }
+  }
+  if (!all_finite(states())) {
+    fail(SimulationStatus::rhs_failure, fmt::format("event at t = {} set a non-finite state", t));
+    return false;
+  }
+  if (terminate) {
+    fail(SimulationStatus::terminated_by_model, fmt::format("terminated by the model at t = {}", t));
+    return false;
+  }
+  return true;
+}
+
+SimulationResult Simulation::run() {
+  auto wall_start = std::chrono::steady_clock::now();
+  std::vector<std::string> names;
+  for (const auto& s : info_.states) names.push_back(s.name);
+  for (const auto& y : info_.outputs) names.push_back(y.name);
+  result_.trajectory = ResultTable(std::move(names));
+
+  auto finish = [&]() -> SimulationResult {
+    if (cvode_.mem) harvest_statistics();
+    result_.statistics.wall_time_seconds =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+    return std::move(result_);
+  };
+
+  if (std::string problem = validate(); !problem.empty()) {
+    fail(SimulationStatus::invalid_problem, std::move(problem));
+    return finish();
+  }
+  const std::vector<double>& times = grid_.times;
+  const double t0 = times.front(), t_end = times.back();
+  segment_end_ = t0;  // no integration yet: set_up() evaluates x0 only
+  inputs_.evaluate(t0, u_);
+  if (!set_up()) return finish();
+
+  std::size_t next_out = 0;
+  auto record_through = [&](double t) {
+    while (next_out < times.size() && times[next_out] <= t) record(times[next_out++]);
+  };
+  record_through(t0);
+
+  const std::vector<double> breakpoints = inputs_.breakpoints(t0, t_end);
+  std::size_t next_bp = 0;
+  std::vector<int> roots(ng_);
+  void* cv = cvode_.mem;
+  double t = t0;
+  while (next_out < times.size()) {
+    while (next_bp < breakpoints.size() && breakpoints[next_bp] <= t) ++next_bp;
+    double t_break = next_bp < breakpoints.size() ? breakpoints[next_bp] : t_end;
+    double t_event = model_.next_time_event(t);
+    double t_stop = std::min({t_end, t_break, t_event});
+    segment_end_ = t_stop;
+    CVodeSetStopTime(cv, t_stop);
+
+    for (;;) {  // integrate until t_stop or a state event
+      double t_out = std::min(times[next_out], t_stop);
+      double t_ret = t;
+      int flag = CVode(cv, t_out, x_->v, &t_ret, CV_NORMAL);
+      if (flag < 0) {
+        fail_cvode(flag, "CVode", t_ret);
+        return finish();
+      }
+      t = t_ret;
+      if (s_) CVodeGetSens(cv, &t_ret, s_->v);
+      if (flag == CV_ROOT_RETURN) {
+        CVodeGetRootInfo(cv, roots.data());
+        bool changed = false;
+        if (!handle_event(t, roots, false, changed)) {
+          record_through(t);
+          return finish();
+        }
+        if (changed && !restart(t)) return finish();
+        record_through(t);
+        break;  // a discrete change may move the next time event
+      }
+      if (t < t_stop) {  // an output time inside the segment
+        record_through(t);
+        continue;
+      }
+      // At a stop: time event, input breakpoint, or the end.
+      bool changed = false;
+      if (t_event <= t && !handle_event(t, {}, true, changed)) {
+        record_through(t);
+        return finish();
+      }
+      if (t < t_end && !restart(t)) return finish();
+      record_through(t);
+      break;
+    }
+  }
+  return finish();
+}
+
+}  // namespace
+
+SimulationResult simulate(Model& model, const Inputs& inputs, std::span<const double> p,
+                          const OutputGrid& grid, const SimulationOptions& options) {
+  return Simulation(model, inputs, p, grid, options).run();
+}
+
+}  // namespace mo::runtime
