@@ -3,10 +3,10 @@
 // 2 bad command line.
 #include "mo/frontend/flatten.hpp"
 #include "mo/frontend/parser.hpp"
+#include "mo/runtime/result.hpp"
 
 #include <CLI/CLI.hpp>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -25,35 +25,6 @@ struct Options {
   bool no_balance_check = false;
   unsigned max_errors = 50;
 };
-
-/// Writes `text` to `path` through a temporary file and a rename, so a
-/// reader never sees a half-written file. Returns false with `error` set.
-bool write_atomically(const std::string &path, const std::string &text, std::string &error) {
-  fs::path target(path);
-  fs::path tmp = target;
-  tmp += ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
-    if (!out) {
-      error = "cannot write '" + tmp.string() + "'";
-      return false;
-    }
-    out << text;
-    out.flush();
-    if (!out) {
-      error = "error while writing '" + tmp.string() + "'";
-      return false;
-    }
-  }
-  std::error_code ec;
-  fs::rename(tmp, target, ec);
-  if (ec) {
-    error = "cannot rename '" + tmp.string() + "' to '" + path + "': " + ec.message();
-    fs::remove(tmp, ec);
-    return false;
-  }
-  return true;
-}
 
 /// The .mo files of a library argument: the file itself, or every .mo file
 /// under a directory (package.mo files first, so `within` packages exist).
@@ -112,9 +83,10 @@ int run(const Options &opt) {
     std::cout << text;
     return 0;
   }
-  std::string error;
-  if (!write_atomically(opt.output, text, error)) {
-    std::cerr << "mocompile: error: " << error << "\n";
+  try {
+    mo::runtime::write_file_atomic(opt.output, [&](std::ostream &os) { os << text; });
+  } catch (const std::exception &e) {
+    std::cerr << "mocompile: error: " << e.what() << "\n";
     return 1;
   }
   return 0;

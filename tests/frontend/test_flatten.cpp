@@ -181,7 +181,7 @@ end Top;
 )");
 }
 
-TEST_CASE("--emit ast dumps the parsed tree", "[parser]") {
+TEST_CASE("the AST dump (--emit ast) shows the parsed tree", "[parser]") {
   using namespace mo::frontend;
   SourceManager sm;
   DiagnosticEngine diags(sm);
