@@ -28,7 +28,12 @@ Expr forward_rule(ExprArena& A, Expr e, const Expr* x, const Expr* d) {
   case ExprKind::Add: return A.add(d[0], d[1]);
   case ExprKind::Sub: return A.sub(d[0], d[1]);
   case ExprKind::Neg: return A.neg(d[0]);
-  case ExprKind::Mul: return A.add(A.mul(d[0], x[1]), A.mul(x[0], d[1]));
+  case ExprKind::Mul: {
+    // Sibling nodes are built in separate statements so that node ids (and
+    // so canonical operand order) do not depend on the compiler.
+    const Expr left = A.mul(d[0], x[1]);
+    return A.add(left, A.mul(x[0], d[1]));
+  }
   case ExprKind::Div:
     // d(a/b) = (da - (a/b)*db)/b reuses the quotient node.
     return A.div(A.sub(d[0], A.mul(e, d[1])), x[1]);
@@ -48,10 +53,13 @@ Expr forward_rule(ExprArena& A, Expr e, const Expr* x, const Expr* d) {
   case ExprKind::Asin: return A.div(d[0], A.sqrt(A.sub(one, A.mul(x[0], x[0]))));
   case ExprKind::Acos: return A.neg(A.div(d[0], A.sqrt(A.sub(one, A.mul(x[0], x[0])))));
   case ExprKind::Atan: return A.div(d[0], A.add(one, A.mul(x[0], x[0])));
-  case ExprKind::Atan2:
+  case ExprKind::Atan2: {
     // d atan2(a, b) = (b*da - a*db)/(a^2 + b^2)
-    return A.div(A.sub(A.mul(x[1], d[0]), A.mul(x[0], d[1])),
-                 A.add(A.mul(x[0], x[0]), A.mul(x[1], x[1])));
+    const Expr b_da = A.mul(x[1], d[0]);
+    const Expr numerator = A.sub(b_da, A.mul(x[0], d[1]));
+    const Expr a_squared = A.mul(x[0], x[0]);
+    return A.div(numerator, A.add(a_squared, A.mul(x[1], x[1])));
+  }
   case ExprKind::Sinh: return A.mul(A.cosh(x[0]), d[0]);
   case ExprKind::Cosh: return A.mul(A.sinh(x[0]), d[0]);
   case ExprKind::Tanh: return A.mul(A.sub(one, A.mul(e, e)), d[0]);

@@ -94,7 +94,8 @@ private:
       return;
     case ExprKind::Atan2: {
       const auto scaled = [&] {
-        return A.div(w, A.add(A.mul(x[0], x[0]), A.mul(x[1], x[1])));
+        const Expr a_squared = A.mul(x[0], x[0]); // sequenced: see forward_mode.cpp
+        return A.div(w, A.add(a_squared, A.mul(x[1], x[1])));
       };
       pass(e, 0, [&] { return A.mul(scaled(), x[1]); });
       pass(e, 1, [&] { return A.neg(A.mul(scaled(), x[0])); });

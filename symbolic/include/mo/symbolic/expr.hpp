@@ -66,7 +66,9 @@ public:
   /// False for the default-constructed handle.
   constexpr bool valid() const { return id_ != invalid_id; }
 
+  /// Same node (within one arena: structurally equal expressions).
   friend constexpr bool operator==(Expr, Expr) = default;
+  /// Order by id: operands before their users.
   friend constexpr auto operator<=>(Expr, Expr) = default;
 
 private:
@@ -76,6 +78,7 @@ private:
 
 /// Hash of a handle, for unordered containers keyed by Expr.
 struct ExprHash {
+  /// Hash of the node id.
   std::size_t operator()(Expr e) const noexcept {
     return std::hash<std::uint32_t>{}(e.id());
   }
@@ -86,4 +89,5 @@ using ExprMap = std::unordered_map<Expr, Expr, ExprHash>;
 
 } // namespace mo::symbolic
 
+/// Lets std::unordered_map<Expr, ...> work without naming ExprHash.
 template <> struct std::hash<mo::symbolic::Expr> : mo::symbolic::ExprHash {};

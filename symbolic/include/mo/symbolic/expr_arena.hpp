@@ -28,8 +28,10 @@ class ExprArena {
 public:
   /// An empty arena.
   ExprArena();
+  /// Not copyable: handles would silently refer to either copy.
   ExprArena(const ExprArena&) = delete;
   ExprArena& operator=(const ExprArena&) = delete;
+  /// Movable; handles stay valid for the moved-to arena.
   ExprArena(ExprArena&&) noexcept = default;
   ExprArena& operator=(ExprArena&&) noexcept = default;
 

@@ -14,6 +14,7 @@ namespace mo::symbolic {
 /// replaced by its value; each node rebuilt once, iteratively. der(x) and
 /// pre(x) follow a replaced x only if x maps to a Symbol; otherwise (unless
 /// der(x) is a key itself) std::invalid_argument. Non-leaf keys throw too.
+/// One pass: the replacement values are not substituted into.
 std::vector<Expr> substitute(ExprArena& arena, std::span<const Expr> exprs,
                              const ExprMap& replacements);
 
