@@ -63,26 +63,41 @@ private:
   std::size_t size_ = 0;
 };
 
-/// Position of each node of a topological order (sorted by id), found by
-/// binary search; lets per-node data live in vectors parallel to the order.
+/// Position of each node of a topological order (sorted by id), so that
+/// per-node data can live in vectors parallel to the order. A dense table
+/// over the id range when the order covers most of it (O(1), e.g. one deep
+/// graph); binary search otherwise (a small part of a large arena).
 class OrderIndex {
 public:
-  explicit OrderIndex(const std::vector<Expr>& order) : order_(order) {}
+  explicit OrderIndex(const std::vector<Expr>& order) : order_(order) {
+    if (order.empty()) return;
+    first_id_ = order.front().id();
+    const std::size_t range = std::size_t(order.back().id()) - first_id_ + 1;
+    if (range > 4 * order.size()) return;
+    dense_.assign(range, not_in_order);
+    for (std::size_t p = 0; p < order.size(); ++p)
+      dense_[order[p].id() - first_id_] = static_cast<std::uint32_t>(p);
+  }
 
-  /// Position of `e`; `e` must be in the order (checked by the caller).
+  /// Position of `e`, which must be in the order (checked by the caller).
   std::size_t position(Expr e) const {
+    if (!dense_.empty()) return dense_[e.id() - first_id_];
     return static_cast<std::size_t>(
         std::lower_bound(order_.begin(), order_.end(), e) - order_.begin());
   }
 
   /// True if `e` is in the order.
   bool contains(Expr e) const {
+    if (order_.empty() || e < order_.front() || order_.back() < e) return false;
     const std::size_t p = position(e);
     return p < order_.size() && order_[p] == e;
   }
 
 private:
+  static constexpr std::uint32_t not_in_order = 0xFFFFFFFFu;
   const std::vector<Expr>& order_;
+  std::uint32_t first_id_ = 0;
+  std::vector<std::uint32_t> dense_;
 };
 
 } // namespace mo::symbolic::detail
