@@ -1,0 +1,24 @@
+// Substitution: rebuild expressions with some leaves replaced by other
+// expressions, e.g. alias elimination (x := y, z := -y). Rebuilt nodes go
+// through the factories, so folding and rewrites apply to the result.
+#pragma once
+
+#include <span>
+#include <vector>
+
+#include "mo/symbolic/expr_arena.hpp"
+
+namespace mo::symbolic {
+
+/// `exprs` with every key of `replacements` (a Symbol, Der or Pre node)
+/// replaced by its value; each node rebuilt once, iteratively. der(x) and
+/// pre(x) follow a replaced x only if x maps to a Symbol; otherwise (unless
+/// der(x) is a key itself) std::invalid_argument. Non-leaf keys throw too.
+/// One pass: the replacement values are not substituted into.
+std::vector<Expr> substitute(ExprArena& arena, std::span<const Expr> exprs,
+                             const ExprMap& replacements);
+
+/// One expression; see the span overload.
+Expr substitute(ExprArena& arena, Expr e, const ExprMap& replacements);
+
+} // namespace mo::symbolic
