@@ -667,20 +667,12 @@ double Flattener::eval_param(std::int32_t var, SourceRange where) {
     throw Reported{};
   param_state_[var] = 1;
   try {
-    if (!v.binding) {
-      for (auto &p : pending_)
-        if (p.var == var && p.attribute.empty() && p.mod.binding) {
-          v.binding = binding_expr(p.mod);
-          p.mod.binding = nullptr; // consumed
-        }
-    }
+    if (!v.binding)
+      v.binding = take_pending(var, "");
     const Expr *src = model_->variables[var].binding.get();
     if (!src) {
-      for (auto &p : pending_)
-        if (p.var == var && p.attribute == "start" && p.mod.binding) {
-          model_->variables[var].attr.start = binding_expr(p.mod);
-          p.mod.binding = nullptr;
-        }
+      if (!model_->variables[var].attr.start)
+        model_->variables[var].attr.start = take_pending(var, "start");
       src = model_->variables[var].attr.start.get();
     }
     if (!src)
@@ -814,6 +806,21 @@ std::vector<double> Flattener::eval_range(const Expr &e, const Scope &s) {
   for (long long i = 0; i < static_cast<long long>(n); ++i)
     out.push_back(a + static_cast<double>(i) * step);
   return out;
+}
+
+ExprPtr Flattener::take_pending(std::int32_t var, const std::string &attribute) {
+  auto it = pending_by_var_.find(var);
+  if (it == pending_by_var_.end())
+    return nullptr;
+  for (std::size_t i : it->second) {
+    PendingBinding &p = pending_[i];
+    if (p.attribute == attribute && p.mod.binding) {
+      ExprPtr e = binding_expr(p.mod);
+      p.mod.binding = nullptr; // consumed: phase 2 skips it
+      return e;
+    }
+  }
+  return nullptr;
 }
 
 ExprPtr Flattener::binding_expr(const Modifier &m) {

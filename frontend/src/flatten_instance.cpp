@@ -241,18 +241,22 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
   } else if (rt.is_builtin) {
     make_scalar(inst, rt, full);
   } else {
-    all_instances_.push_back(&inst);
-    std::vector<ClassNode *> saved;
-    saved.swap(class_stack_); // extends cycles are per class, not per component
-    try {
-      instantiate_class(inst, rt.cls, full, depth + 1);
-    } catch (...) {
-      class_stack_.swap(saved);
-      throw;
-    }
-    class_stack_.swap(saved);
-    check_modifier_names(inst, full);
+    instantiate_structured(inst, rt.cls, full, depth);
   }
+}
+
+void Flattener::instantiate_structured(Instance &inst, ClassNode *cls, const Modifier &mod, unsigned depth) {
+  all_instances_.push_back(&inst);
+  std::vector<ClassNode *> saved;
+  saved.swap(class_stack_); // extends cycles are per class, not per component
+  try {
+    instantiate_class(inst, cls, mod, depth + 1);
+  } catch (...) {
+    class_stack_.swap(saved);
+    throw;
+  }
+  class_stack_.swap(saved);
+  check_modifier_names(inst, mod);
 }
 
 void Flattener::make_elements(Instance &inst, const ast::Component &comp, const ResolvedType &rt,
@@ -280,17 +284,7 @@ void Flattener::make_elements(Instance &inst, const ast::Component &comp, const 
     if (rt.is_builtin) {
       make_scalar(*el, rt, emod);
     } else {
-      all_instances_.push_back(el.get());
-      std::vector<ClassNode *> saved;
-      saved.swap(class_stack_);
-      try {
-        instantiate_class(*el, rt.cls, emod, depth + 1);
-      } catch (...) {
-        class_stack_.swap(saved);
-        throw;
-      }
-      class_stack_.swap(saved);
-      check_modifier_names(*el, emod);
+      instantiate_structured(*el, rt.cls, emod, depth);
     }
     inst.elements.push_back(std::move(el));
     for (std::size_t i = idx.size(); i-- > 0;) { // row-major increment
@@ -333,11 +327,15 @@ void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifi
                         " (in the declaration of '" + inst.flat + "')");
       continue;
     }
-    if (sub.binding)
+    if (sub.binding) {
+      pending_by_var_[inst.var].push_back(pending_.size());
       pending_.push_back(PendingBinding{inst.var, name, sub});
+    }
   }
-  if (mod.binding)
+  if (mod.binding) {
+    pending_by_var_[inst.var].push_back(pending_.size());
     pending_.push_back(PendingBinding{inst.var, "", mod});
+  }
 }
 
 } // namespace mo::frontend::detail

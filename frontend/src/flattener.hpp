@@ -148,6 +148,9 @@ public:
   void instantiate_component(Instance &parent, const ast::Component &comp, ClassNode *cls,
                              Modifier mod, unsigned depth);
   void make_scalar(Instance &inst, const ResolvedType &rt, const Modifier &mod);
+  /// Instantiates a structured component (or array element) of class `cls`
+  /// and checks that its modifiers name elements of it.
+  void instantiate_structured(Instance &inst, ClassNode *cls, const Modifier &mod, unsigned depth);
   void make_elements(Instance &inst, const ast::Component &comp, const ResolvedType &rt,
                      const Modifier &mod, unsigned depth);
   void check_modifier_names(const Instance &inst, const Modifier &mod);
@@ -160,6 +163,12 @@ public:
     Modifier mod;
   };
   std::vector<PendingBinding> pending_;
+  /// Indices into pending_ per variable: parameters are evaluated on demand
+  /// (array sizes) long before phase 2 walks the whole list.
+  std::unordered_map<std::int32_t, std::vector<std::size_t>> pending_by_var_;
+  /// Flattens the still-pending `attribute` binding of `var` ("" = value),
+  /// or returns null when there is none.
+  ast::ExprPtr take_pending(std::int32_t var, const std::string &attribute);
   std::vector<ClassNode *> class_stack_;
 
   // -- expressions (flatten_expr.cpp)

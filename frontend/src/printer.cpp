@@ -43,7 +43,7 @@ int prec_of(const Expr &e) {
   case ExprKind::Unary:
   case ExprKind::Binary: return binary_prec(e.op);
   case ExprKind::Real:
-  case ExprKind::Integer: return e.number < 0 || std::signbit(e.number) ? kAdd : kPrimary;
+  case ExprKind::Integer: return std::signbit(e.number) ? kAdd : kPrimary; // prints with '-'
   case ExprKind::String:
   case ExprKind::Boolean:
   case ExprKind::Ref:

@@ -41,6 +41,20 @@ Compiled compile_text(const std::string &text, std::string class_name) {
   return compile({{"test.mo", text}}, std::move(class_name));
 }
 
+std::vector<ManifestRow> scilab_manifest() {
+  std::ifstream in(std::string(MO_TEST_DATA_DIR) + "/scilab/MANIFEST");
+  std::vector<ManifestRow> rows;
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.empty() || line[0] == '#') continue;
+    std::istringstream ls(line);
+    ManifestRow r;
+    ls >> r.file >> r.library >> r.cls >> r.instance >> r.unknowns >> r.equations >> r.parameters;
+    rows.push_back(r);
+  }
+  return rows;
+}
+
 std::string read_file(const std::string &path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream ss;

@@ -27,6 +27,14 @@ Compiled compile(const std::vector<Source> &sources, std::string class_name = ""
                  bool check_balance = true);
 Compiled compile_text(const std::string &text, std::string class_name = "");
 
+/// One row of tests/frontend/data/scilab/MANIFEST: a hierarchical model
+/// built from a Scilab library, with the counts of modelicat's flat output.
+struct ManifestRow {
+  std::string file, library, cls, instance;
+  int unknowns = 0, equations = 0, parameters = 0;
+};
+std::vector<ManifestRow> scilab_manifest();
+
 std::string read_file(const std::string &path);
 void write_file(const std::string &path, const std::string &text);
 std::vector<std::string> list_files(const std::string &dir, const std::string &suffix);

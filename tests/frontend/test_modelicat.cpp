@@ -7,9 +7,7 @@
 #include <catch2/catch.hpp>
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <set>
-#include <sstream>
 
 using namespace mo::test;
 namespace fs = std::filesystem;
@@ -85,14 +83,9 @@ void compare(const std::vector<std::string> &libs, const std::string &cls, const
 } // namespace
 
 TEST_CASE("Scilab circuits: mocompile and modelicat agree", "[modelicat]") {
-  std::ifstream in(std::string(MO_TEST_DATA_DIR) + "/scilab/MANIFEST");
-  std::string line;
   int rows = 0;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ls(line);
-    std::string file, library, cls;
-    ls >> file >> library >> cls;
+  for (const auto &row : scilab_manifest()) {
+    const std::string &file = row.file, &library = row.library, &cls = row.cls;
     std::string lib = std::string(MO_SCILAB_MACROS) + "/" + library + "/" + library + ".mo";
     std::string dir = std::string(MO_TEST_DATA_DIR) + "/scilab/";
     if (!fs::exists(lib)) {

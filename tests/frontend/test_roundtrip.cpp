@@ -3,8 +3,6 @@
 #include "compile.hpp"
 
 #include <catch2/catch.hpp>
-#include <fstream>
-#include <sstream>
 
 using namespace mo::test;
 
@@ -22,27 +20,6 @@ void check_round_trip(const Compiled &first, const std::string &what) {
   CHECK(again.model->equations.size() == first.model->equations.size());
 }
 
-struct ManifestRow {
-  std::string file, library, cls;
-  int unknowns, equations;
-};
-
-std::vector<ManifestRow> manifest() {
-  std::ifstream in(std::string(MO_TEST_DATA_DIR) + "/scilab/MANIFEST");
-  std::vector<ManifestRow> rows;
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.empty() || line[0] == '#') continue;
-    std::istringstream ls(line);
-    ManifestRow r;
-    std::string inst;
-    int params;
-    ls >> r.file >> r.library >> r.cls >> inst >> r.unknowns >> r.equations >> params;
-    rows.push_back(r);
-  }
-  return rows;
-}
-
 } // namespace
 
 TEST_CASE("Xcos flat files print back to flat Modelica that flattens to the same text", "[roundtrip]") {
@@ -57,7 +34,7 @@ TEST_CASE("Xcos flat files print back to flat Modelica that flattens to the same
 TEST_CASE("flattened hierarchical models round-trip", "[roundtrip]") {
   const std::string macros = MO_SCILAB_MACROS;
   const std::string lib_dir = std::string(MO_TEST_DATA_DIR) + "/scilab/";
-  for (const auto &row : manifest()) {
+  for (const auto &row : scilab_manifest()) {
     std::string lib = macros + "/" + row.library + "/" + row.library + ".mo";
     if (read_file(lib).empty()) {
       WARN("Scilab library " << lib << " is not installed (scripts/install-deps.sh)");
