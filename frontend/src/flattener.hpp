@@ -12,7 +12,6 @@
 
 #include <map>
 #include <memory>
-#include <set>
 #include <unordered_map>
 
 namespace mo::frontend {
