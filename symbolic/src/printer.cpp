@@ -168,6 +168,20 @@ private:
     text(")");
   }
 
+  // A Derivative symbol named "der(v)" (as lowering names them) prints as
+  // der(v) with v quoted if needed; any other symbol prints as its name.
+  void symbol(const SymbolInfo& info) {
+    const std::string& n = info.name;
+    if (info.role == SymbolRole::Derivative && n.size() > 5 && n.starts_with("der(") &&
+        n.back() == ')') {
+      out_ += "der(";
+      out_ += modelica_name(std::string_view(n).substr(4, n.size() - 5));
+      out_ += ')';
+      return;
+    }
+    out_ += modelica_name(n);
+  }
+
   void expand(Expr e, int min_level) {
     if (level(arena_, e) < min_level) {
       text("(");
@@ -179,7 +193,7 @@ private:
     const ExprKind k = arena_.kind(e);
     switch (k) {
     case ExprKind::Constant: out_ += constant_text(arena_.constant_value(e)); return;
-    case ExprKind::Symbol: out_ += modelica_name(arena_.symbol_info(e).name); return;
+    case ExprKind::Symbol: symbol(arena_.symbol_info(e)); return;
     case ExprKind::Der:
     case ExprKind::Pre:
       out_ += kind_spelling(k);
@@ -281,6 +295,7 @@ std::string_view role_name(SymbolRole role) {
   case SymbolRole::Input: return "Input";
   case SymbolRole::Parameter: return "Parameter";
   case SymbolRole::Time: return "Time";
+  case SymbolRole::Discrete: return "Discrete";
   }
   return "?";
 }

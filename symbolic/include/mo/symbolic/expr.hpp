@@ -41,6 +41,7 @@ enum class SymbolRole : std::uint8_t {
   Input,      ///< u: an input, given over time.
   Parameter,  ///< p: constant during a simulation.
   Time,       ///< t: the independent variable.
+  Discrete,   ///< d: changes only at events (when-clauses).
 };
 
 /// The side-table entry of a symbol: its name, role and the caller's index.

@@ -1,0 +1,165 @@
+// The lowered model: the IR between lowering and code generation.
+//
+//   der(x) = f(x, u, p, t, d)     computed by `steps` in order,
+//   y      = h(x, u, p, t, d)     outputs: expressions over anything the steps computed,
+//   x(t0)  = x0(p)                start expressions over parameters,
+//
+// Every unknown other than the states is an Algebraic symbol assigned by one
+// step; each state's derivative is a Derivative symbol assigned by one step.
+// A step is an explicit assignment or an equation block solved at run time:
+// a linear block (A z = -c, A and c evaluated from the expressions below) or a
+// nonlinear block (Newton on the residuals with the given Jacobian). Blocks
+// are never inverted symbolically.
+//
+// Discrete variables d change only at events: when-clauses assign them and
+// reinit states. Zero crossings are the event indicators of relations in the
+// continuous equations and when-conditions.
+#pragma once
+
+#include <cstddef>
+#include <limits>
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include "mo/symbolic/expr_arena.hpp"
+
+namespace mo::symbolic {
+
+/// What the modeller declared about a scalar that survives lowering.
+struct VariableInfo {
+  std::string name;         ///< flat Modelica name, e.g. "pendulum.phi" or "d(phi)/d(m2)"
+  std::string description;  ///< the declaration's comment, may be empty
+  std::string unit;         ///< unit attribute, may be empty
+  double nominal = 1.0;     ///< scaling magnitude, > 0
+  double min = -std::numeric_limits<double>::infinity();  ///< lower bound
+  double max = std::numeric_limits<double>::infinity();   ///< upper bound
+};
+
+/// A forward sensitivity state S = ∂x_state/∂p_parameter (indices into the model).
+struct SensitivityOf {
+  std::size_t state;      ///< index of the base state in OdeModel::states
+  std::size_t parameter;  ///< index of the parameter in OdeModel::parameters
+};
+
+/// A state x_i with its derivative symbol and start expression.
+struct OdeState {
+  VariableInfo info;
+  Expr symbol;      ///< role State
+  Expr derivative;  ///< role Derivative; assigned by exactly one step
+  Expr start;       ///< x0 as an expression over parameters (often a constant)
+  bool fixed = false;  ///< start was declared fixed = true (else a guess)
+  std::optional<SensitivityOf> sensitivity;  ///< set iff this is a sensitivity state
+};
+
+/// An input u_j, given over time by the caller.
+struct OdeInput {
+  VariableInfo info;
+  Expr symbol;  ///< role Input
+};
+
+/// A parameter p_k with its default value.
+struct OdeParameter {
+  VariableInfo info;
+  Expr symbol;         ///< role Parameter
+  double value = 0.0;  ///< default value
+};
+
+/// An algebraic unknown, assigned by exactly one step.
+struct OdeAlgebraic {
+  VariableInfo info;
+  Expr symbol;  ///< role Algebraic
+};
+
+/// A discrete variable (Real, Integer or Boolean as double).
+struct OdeDiscrete {
+  VariableInfo info;
+  Expr symbol;         ///< role Discrete; pre(symbol) is its value before an event
+  double start = 0.0;  ///< value at t0
+};
+
+/// A named value for results: a model output, or an eliminated variable.
+struct OdeOutput {
+  VariableInfo info;
+  Expr value;  ///< expression over states, inputs, parameters, time, steps' targets
+};
+
+/// target := value. `target` is an Algebraic or Derivative symbol.
+struct Assignment {
+  Expr target;
+  Expr value;
+};
+
+/// One entry J(row, col) of a block's Jacobian ∂residual_row/∂unknown_col.
+struct BlockEntry {
+  std::size_t row;
+  std::size_t col;
+  Expr value;
+};
+
+/// Equations 0 = residuals[i] solved together for `unknowns`.
+/// Linear: the residuals are affine in the unknowns, r = J z + offset, so the
+/// run time solves J z = -offset (J and offset do not depend on z).
+/// Nonlinear: Newton on r with Jacobian J, starting from the unknowns' last
+/// values (their `start` at the first call).
+struct EquationBlock {
+  bool linear = true;
+  std::vector<Expr> unknowns;       ///< Algebraic or Derivative symbols
+  std::vector<Expr> residuals;      ///< one per unknown
+  std::vector<BlockEntry> jacobian; ///< structurally nonzero entries, row-major
+  std::vector<Expr> offset;         ///< linear only: r at z = 0
+  std::vector<double> start;        ///< nonlinear only: first Newton guess
+};
+
+/// One step of the evaluation sequence.
+using Step = std::variant<Assignment, EquationBlock>;
+
+/// reinit(state, value) inside a when-clause.
+struct Reinit {
+  std::size_t state;  ///< index into OdeModel::states
+  Expr value;
+};
+
+/// when condition then discrete := value ...; reinit(...) ...; end when.
+/// Fires when `condition` becomes true (it was false before the event).
+struct WhenClause {
+  Expr condition;                       ///< Boolean expression (0/1)
+  std::vector<Assignment> assignments;  ///< targets are Discrete symbols
+  std::vector<Reinit> reinits;
+};
+
+/// The lowered model. Owns its expressions.
+struct OdeModel {
+  ExprArena arena;
+  std::string name;
+  Expr time;  ///< the Time symbol
+  std::vector<OdeState> states;
+  std::vector<OdeInput> inputs;
+  std::vector<OdeParameter> parameters;
+  std::vector<OdeAlgebraic> algebraics;
+  std::vector<OdeDiscrete> discrete;
+  std::vector<Step> steps;          ///< evaluation order
+  std::vector<OdeOutput> outputs;   ///< declared outputs (and output sensitivities)
+  std::vector<OdeOutput> eliminated;  ///< aliases and other removed variables, for results
+  std::vector<Expr> zero_crossings; ///< event indicators: sign changes are events
+  std::vector<WhenClause> whens;
+
+  /// Index of the parameter named `name`, or nullopt.
+  [[nodiscard]] std::optional<std::size_t> parameter_index(std::string_view name) const;
+  /// Index of the state named `name`, or nullopt.
+  [[nodiscard]] std::optional<std::size_t> state_index(std::string_view name) const;
+  /// Number of states that are not sensitivity states.
+  [[nodiscard]] std::size_t num_base_states() const;
+};
+
+/// The model as flat Modelica that parses and simulates again: declarations
+/// (states with start/fixed, algebraics, parameters, inputs, outputs), then
+/// the steps in order (`der(x) = ...`, `a = ...`, blocks as `0 = ...`), the
+/// outputs and the when-clauses. Names are quoted where Modelica needs it.
+std::string print_ode(const OdeModel& model);
+
+/// A short text summary: sizes and the kinds of steps (for logs and tests).
+std::string summary(const OdeModel& model);
+
+}  // namespace mo::symbolic

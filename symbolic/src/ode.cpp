@@ -1,0 +1,165 @@
+// OdeModel helpers and its flat-Modelica text form.
+#include "mo/symbolic/ode.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+#include "mo/symbolic/printer.hpp"
+
+namespace mo::symbolic {
+
+namespace {
+
+template <class Vars>
+std::optional<std::size_t> find_named(const Vars& vars, std::string_view name) {
+  for (std::size_t i = 0; i < vars.size(); ++i)
+    if (vars[i].info.name == name) return i;
+  return std::nullopt;
+}
+
+/// " \"comment\"" with the comment as an escaped Modelica string, or "".
+std::string comment(const VariableInfo& info) {
+  if (info.description.empty()) return {};
+  std::string out = " \"";
+  for (char c : info.description) {
+    if (c == '"' || c == '\\') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+      continue;
+    }
+    out += c;
+  }
+  return out + "\"";
+}
+
+std::string number(double v) {
+  if (std::isinf(v)) return v > 0 ? "1e308" : "-1e308";
+  return fmt::format("{}", v);
+}
+
+/// The attribute list "(start = .., fixed = .., nominal = .., min = .., max = ..)".
+std::string attributes(const ExprArena& arena, const VariableInfo& info, Expr start,
+                       std::optional<bool> fixed) {
+  std::vector<std::string> parts;
+  if (start.valid()) parts.push_back("start = " + to_modelica(arena, start));
+  if (fixed) parts.push_back(*fixed ? "fixed = true" : "fixed = false");
+  if (info.nominal != 1.0) parts.push_back("nominal = " + number(info.nominal));
+  if (std::isfinite(info.min)) parts.push_back("min = " + number(info.min));
+  if (std::isfinite(info.max)) parts.push_back("max = " + number(info.max));
+  if (parts.empty()) return {};
+  return "(" + fmt::format("{}", fmt::join(parts, ", ")) + ")";
+}
+
+void print_step(const ExprArena& arena, const Step& step, std::string& out) {
+  if (const auto* a = std::get_if<Assignment>(&step)) {
+    out += "  " + to_modelica(arena, a->target) + " = " + to_modelica(arena, a->value) + ";\n";
+    return;
+  }
+  const auto& b = std::get<EquationBlock>(step);
+  out += fmt::format("  // {} block of {} equations for", b.linear ? "linear" : "nonlinear",
+                     b.unknowns.size());
+  for (Expr z : b.unknowns) out += " " + to_modelica(arena, z);
+  out += "\n";
+  for (Expr r : b.residuals) out += "  0 = " + to_modelica(arena, r) + ";\n";
+}
+
+/// True if output `y` is just the unknown of the same name (printed as an
+/// `output` prefix on that unknown's declaration instead of twice).
+bool is_self_output(const ExprArena& a, const OdeOutput& y) {
+  return a.kind(y.value) == ExprKind::Symbol && a.symbol_info(y.value).name == y.info.name;
+}
+
+std::string prefix_of(const OdeModel& m, Expr symbol) {
+  for (const auto& y : m.outputs)
+    if (y.value == symbol && is_self_output(m.arena, y)) return "output ";
+  return {};
+}
+
+void print_declarations(const OdeModel& m, std::string& out) {
+  const ExprArena& a = m.arena;
+  for (const auto& p : m.parameters)
+    out += fmt::format("  parameter Real {}{} = {}{};\n", modelica_name(p.info.name),
+                       attributes(a, p.info, Expr(), std::nullopt), number(p.value),
+                       comment(p.info));
+  for (const auto& u : m.inputs)
+    out += fmt::format("  input Real {}{};\n", modelica_name(u.info.name), comment(u.info));
+  for (const auto& x : m.states)
+    out += fmt::format("  {}Real {}{}{};\n", prefix_of(m, x.symbol), modelica_name(x.info.name),
+                       attributes(a, x.info, x.start, x.fixed), comment(x.info));
+  for (const auto& z : m.algebraics)
+    out += fmt::format("  {}Real {}{}{};\n", prefix_of(m, z.symbol), modelica_name(z.info.name),
+                       attributes(a, z.info, Expr(), std::nullopt), comment(z.info));
+  for (const auto& d : m.discrete)
+    out += fmt::format("  discrete Real {}(start = {}){};\n", modelica_name(d.info.name),
+                       number(d.start), comment(d.info));
+  for (const auto& y : m.outputs)
+    if (!is_self_output(a, y))
+      out += fmt::format("  output Real {}{};\n", modelica_name(y.info.name), comment(y.info));
+}
+
+void print_when(const ExprArena& a, const OdeModel& m, const WhenClause& w, std::string& out) {
+  out += "  when " + to_modelica(a, w.condition) + " then\n";
+  for (const auto& s : w.assignments)
+    out += "    " + to_modelica(a, s.target) + " = " + to_modelica(a, s.value) + ";\n";
+  for (const auto& r : w.reinits)
+    out += "    reinit(" + modelica_name(m.states[r.state].info.name) + ", " +
+           to_modelica(a, r.value) + ");\n";
+  out += "  end when;\n";
+}
+
+}  // namespace
+
+std::optional<std::size_t> OdeModel::parameter_index(std::string_view n) const {
+  return find_named(parameters, n);
+}
+
+std::optional<std::size_t> OdeModel::state_index(std::string_view n) const {
+  return find_named(states, n);
+}
+
+std::size_t OdeModel::num_base_states() const {
+  std::size_t n = 0;
+  for (const auto& x : states) n += x.sensitivity ? 0 : 1;
+  return n;
+}
+
+std::string print_ode(const OdeModel& m) {
+  const ExprArena& a = m.arena;
+  std::string out = "model " + modelica_name(m.name) + "\n";
+  print_declarations(m, out);
+  out += "equation\n";
+  for (const Step& s : m.steps) print_step(a, s, out);
+  for (const auto& y : m.outputs)
+    if (!is_self_output(a, y))
+      out += "  " + modelica_name(y.info.name) + " = " + to_modelica(a, y.value) + ";\n";
+  for (const auto& w : m.whens) print_when(a, m, w, out);
+  if (!m.eliminated.empty()) {
+    out += "  // eliminated variables, recoverable for results:\n";
+    for (const auto& e : m.eliminated)
+      out += "  //   " + modelica_name(e.info.name) + " = " + to_modelica(a, e.value) + "\n";
+  }
+  out += "end " + modelica_name(m.name) + ";\n";
+  return out;
+}
+
+std::string summary(const OdeModel& m) {
+  std::size_t assignments = 0, linear = 0, nonlinear = 0, largest = 0;
+  for (const Step& s : m.steps) {
+    if (std::holds_alternative<Assignment>(s)) {
+      ++assignments;
+      continue;
+    }
+    const auto& b = std::get<EquationBlock>(s);
+    (b.linear ? linear : nonlinear) += 1;
+    largest = std::max(largest, b.unknowns.size());
+  }
+  return fmt::format(
+      "{} states ({} sensitivity), {} algebraics, {} inputs, {} parameters, {} outputs, "
+      "{} discrete; {} assignments, {} linear and {} nonlinear blocks (largest {}); "
+      "{} zero crossings, {} when-clauses, {} eliminated",
+      m.states.size(), m.states.size() - m.num_base_states(), m.algebraics.size(),
+      m.inputs.size(), m.parameters.size(), m.outputs.size(), m.discrete.size(), assignments,
+      linear, nonlinear, largest, m.zero_crossings.size(), m.whens.size(), m.eliminated.size());
+}
+
+}  // namespace mo::symbolic

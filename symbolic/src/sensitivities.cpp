@@ -1,0 +1,143 @@
+// Forward sensitivity equations; see sensitivities.hpp.
+#include "mo/symbolic/sensitivities.hpp"
+
+#include <stdexcept>
+#include <unordered_set>
+
+#include "mo/symbolic/differentiate.hpp"
+#include "mo/symbolic/directional.hpp"
+#include "mo/symbolic/traversal.hpp"
+
+namespace mo::symbolic {
+
+namespace {
+
+using LeafSet = std::unordered_set<Expr, ExprHash>;
+
+/// Targets and used leaves of one step, for dependency propagation.
+struct StepLeaves {
+  std::vector<Expr> targets;
+  std::vector<Expr> used;
+};
+
+std::vector<StepLeaves> step_leaves(const OdeModel& m) {
+  std::vector<StepLeaves> out;
+  out.reserve(m.steps.size());
+  for (const Step& s : m.steps) {
+    StepLeaves sl;
+    if (const auto* a = std::get_if<Assignment>(&s)) {
+      sl.targets = {a->target};
+      sl.used = leaves(m.arena, std::span(&a->value, 1));
+    } else {
+      const auto& b = std::get<EquationBlock>(s);
+      sl.targets = b.unknowns;
+      sl.used = leaves(m.arena, b.residuals);
+    }
+    out.push_back(std::move(sl));
+  }
+  return out;
+}
+
+/// The base states whose value depends on parameter symbol `p`.
+std::vector<bool> influenced_states(const OdeModel& m, const std::vector<StepLeaves>& steps,
+                                    Expr p, std::size_t nx) {
+  std::vector<bool> hit(nx, false);
+  for (std::size_t i = 0; i < nx; ++i) {
+    const auto start_leaves = leaves(m.arena, std::span(&m.states[i].start, 1));
+    for (Expr l : start_leaves) hit[i] = hit[i] || l == p;
+  }
+  for (bool changed = true; changed;) {
+    LeafSet dep{p};
+    for (std::size_t i = 0; i < nx; ++i)
+      if (hit[i]) dep.insert(m.states[i].symbol);
+    for (const StepLeaves& s : steps) {
+      bool any = false;
+      for (Expr l : s.used) any = any || dep.contains(l);
+      if (any) dep.insert(s.targets.begin(), s.targets.end());
+    }
+    changed = false;
+    for (std::size_t i = 0; i < nx; ++i)
+      if (!hit[i] && dep.contains(m.states[i].derivative)) hit[i] = changed = true;
+  }
+  return hit;
+}
+
+/// What the sensitivities of all parameters add; appended to the model at the
+/// end so that each parameter differentiates the base steps only.
+struct Additions {
+  std::vector<Step> steps;
+  std::vector<OdeAlgebraic> algebraics;
+  std::vector<OdeOutput> outputs;
+};
+
+void add_for_parameter(OdeModel& m, const std::vector<StepLeaves>& steps, std::size_t k,
+                       std::size_t nx, std::size_t ny, Additions& add) {
+  const OdeParameter par = m.parameters[k];
+  const std::vector<bool> hit = influenced_states(m, steps, par.symbol, nx);
+  ExprArena& a = m.arena;
+  ExprMap seeds{{par.symbol, a.constant(1.0)}};
+  std::vector<std::size_t> new_states;
+  for (std::size_t i = 0; i < nx; ++i) {
+    if (!hit[i]) continue;
+    const OdeState& x = m.states[i];
+    OdeState s;
+    s.info.name = sensitivity_name(x.info.name, par.info.name);
+    s.info.description = "sensitivity of " + x.info.name + " to " + par.info.name;
+    s.info.nominal = x.info.nominal;
+    const auto index = static_cast<std::int32_t>(m.states.size());
+    s.symbol = a.symbol(s.info.name, SymbolRole::State, index);
+    s.derivative = a.symbol("der(" + s.info.name + ")", SymbolRole::Derivative, index);
+    s.start = derivative(a, x.start, par.symbol);
+    s.fixed = x.fixed;
+    s.sensitivity = SensitivityOf{i, k};
+    seeds[x.symbol] = s.symbol;
+    new_states.push_back(m.states.size());
+    m.states.push_back(std::move(s));
+  }
+  const Directional d = differentiate_steps(
+      m, seeds, [&](const std::string& v) { return sensitivity_name(v, par.info.name); });
+  add.steps.insert(add.steps.end(), d.steps.begin(), d.steps.end());
+  add.algebraics.insert(add.algebraics.end(), d.symbols.begin(), d.symbols.end());
+  for (std::size_t si : new_states) {
+    const OdeState& s = m.states[si];
+    const auto it = d.derivative.find(m.states[s.sensitivity->state].derivative);
+    add.steps.emplace_back(
+        Assignment{s.derivative, it == d.derivative.end() ? a.constant(0.0) : it->second});
+  }
+  for (std::size_t j = 0; j < ny; ++j) {
+    OdeOutput y;
+    y.info.name = sensitivity_name(m.outputs[j].info.name, par.info.name);
+    y.info.description = "sensitivity of output " + m.outputs[j].info.name;
+    y.value = derivative_along(m, d, m.outputs[j].value);
+    add.outputs.push_back(std::move(y));
+  }
+}
+
+}  // namespace
+
+std::string sensitivity_name(const std::string& variable, const std::string& parameter) {
+  return "d(" + variable + ")/d(" + parameter + ")";
+}
+
+void add_sensitivities(OdeModel& model, std::span<const std::size_t> parameters) {
+  if (model.num_base_states() != model.states.size())
+    throw std::invalid_argument("add_sensitivities: the model already has sensitivity states");
+  std::unordered_set<std::size_t> seen;
+  for (std::size_t k : parameters) {
+    if (k >= model.parameters.size())
+      throw std::invalid_argument("add_sensitivities: parameter index out of range");
+    if (!seen.insert(k).second)
+      throw std::invalid_argument("add_sensitivities: parameter listed twice: " +
+                                  model.parameters[k].info.name);
+  }
+  const std::size_t nx = model.states.size(), ny = model.outputs.size();
+  const std::vector<StepLeaves> steps = step_leaves(model);
+  Additions add;
+  for (std::size_t k : parameters) add_for_parameter(model, steps, k, nx, ny, add);
+  auto append = [](auto& to, auto& from) { to.insert(to.end(), from.begin(), from.end()); };
+  append(model.steps, add.steps);
+  append(model.algebraics, add.algebraics);
+  append(model.outputs, add.outputs);
+}
+
+}  // namespace mo::symbolic
