@@ -4,6 +4,8 @@
 #include "mo/frontend/flatten.hpp"
 #include "mo/frontend/parser.hpp"
 #include "mo/runtime/result.hpp"
+#include "mo/symbolic/lower.hpp"
+#include "mo/symbolic/sensitivities.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -24,6 +26,7 @@ struct Options {
   std::string output;
   bool no_balance_check = false;
   unsigned max_errors = 50;
+  std::vector<std::string> sensitivities;
 };
 
 /// The .mo files of a library argument: the file itself, or every .mo file
@@ -44,6 +47,33 @@ std::vector<std::string> library_files(const std::string &arg) {
     files.push_back(arg);
   }
   return files;
+}
+
+/// Lowers a flat model and appends the requested sensitivities; nullopt after
+/// reporting errors (unknown parameter names included) to `diags`.
+std::optional<mo::symbolic::OdeModel> lower_model(const flat::Model &model, const Options &opt,
+                                                  DiagnosticEngine &diags) {
+  mo::symbolic::LowerOptions lo;
+  std::string trace;
+  if (opt.emit == "trace") lo.trace = &trace;
+  auto ode = mo::symbolic::lower(model, diags, lo);
+  if (lo.trace) std::cout << trace;
+  if (!ode) return std::nullopt;
+  std::vector<std::size_t> params;
+  for (const auto &name : opt.sensitivities) {
+    if (auto k = ode->parameter_index(name)) {
+      params.push_back(*k);
+      continue;
+    }
+    std::string known;
+    for (const auto &p : ode->parameters) known += (known.empty() ? "" : ", ") + p.info.name;
+    diags.report(DiagId::UnknownComponent, {},
+                 "--sensitivities: '" + name + "' is not a parameter of " + model.name +
+                     (known.empty() ? " (it has none)" : " (parameters: " + known + ")"));
+    return std::nullopt;
+  }
+  if (!params.empty()) mo::symbolic::add_sensitivities(*ode, params);
+  return ode;
 }
 
 int run(const Options &opt) {
@@ -76,7 +106,14 @@ int run(const Options &opt) {
       diags.print(std::cerr);
       return 1;
     }
-    text = model->print();
+    if (opt.emit == "flat") {
+      text = model->print();
+    } else if (auto ode = lower_model(*model, opt, diags)) {
+      text = mo::symbolic::print_ode(*ode);
+    } else {
+      diags.print(std::cerr);
+      return 1;
+    }
   }
   diags.print(std::cerr); // warnings
   if (opt.output.empty() || opt.output == "-") {
@@ -108,14 +145,21 @@ int main(int argc, char **argv) {
                  "Library file or directory of .mo files to load before FILE (repeatable)")
       ->check(CLI::ExistingPath);
   app.add_option("--emit", opt.emit,
-                 "What to print: 'ast' (the parsed file) or 'flat' (the flattened model, flat Modelica)")
-      ->check(CLI::IsMember({"ast", "flat"}))
+                 "What to print: 'ast' (the parsed file), 'flat' (the flattened model) or 'ode' "
+                 "(the lowered model: states, ordered assignments and blocks), as Modelica; 'trace' "
+                 "prints each lowering stage (alias, index reduction, BLT) before the ode")
+      ->check(CLI::IsMember({"ast", "flat", "ode", "trace"}))
       ->capture_default_str();
+  app.add_option("--sensitivities", opt.sensitivities,
+                 "Append forward sensitivity equations for these parameters (comma-separated); "
+                 "implies --emit ode unless another lowered output is chosen")
+      ->delimiter(',');
   app.add_option("-o,--output", opt.output, "Write the result to this file (atomically) instead of stdout");
   app.add_flag("--no-balance-check", opt.no_balance_check,
                "Do not check that the model has as many equations as unknowns");
   app.add_option("--max-errors", opt.max_errors, "Stop listing errors after this many")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
+  if (!opt.sensitivities.empty() && opt.emit == "flat") opt.emit = "ode";
   try {
     return run(opt);
   } catch (const std::exception &e) {

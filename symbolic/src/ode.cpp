@@ -56,8 +56,8 @@ void print_step(const ExprArena& arena, const Step& step, std::string& out) {
     return;
   }
   const auto& b = std::get<EquationBlock>(step);
-  out += fmt::format("  // {} block of {} equations for", b.linear ? "linear" : "nonlinear",
-                     b.unknowns.size());
+  out += fmt::format("  // {} block of {} equation{} for", b.linear ? "linear" : "nonlinear",
+                     b.unknowns.size(), b.unknowns.size() == 1 ? "" : "s");
   for (Expr z : b.unknowns) out += " " + to_modelica(arena, z);
   out += "\n";
   for (Expr r : b.residuals) out += "  0 = " + to_modelica(arena, r) + ";\n";

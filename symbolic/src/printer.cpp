@@ -1,5 +1,7 @@
 #include "mo/symbolic/printer.hpp"
 
+#include <algorithm>
+
 #include <cmath>
 #include <fmt/format.h>
 #include <vector>
@@ -276,11 +278,22 @@ std::string to_modelica(const ExprArena& arena, Expr e) {
 }
 
 std::string modelica_name(std::string_view name) {
-  if (is_component_reference(name)) return std::string(name);
+  const bool simple = name.find_first_of(".[") == std::string_view::npos;
+  if (simple && is_component_reference(name)) return std::string(name);
+  const bool backquotable = !name.empty() && std::all_of(name.begin(), name.end(), [](char c) {
+    return c != '`' && static_cast<unsigned char>(c) >= 0x20 && c != 0x7f;
+  });
+  if (backquotable) return "`" + std::string(name) + "`";
   std::string quoted = "'";
   for (char c : name) {
-    if (c == '\'' || c == '\\') quoted += '\\';
-    quoted += c;
+    switch (c) {
+    case '\'': quoted += "\\'"; break;
+    case '\\': quoted += "\\\\"; break;
+    case '\n': quoted += "\\n"; break;
+    case '\r': quoted += "\\r"; break;
+    case '\t': quoted += "\\t"; break;
+    default: quoted += static_cast<unsigned char>(c) < 0x20 || c == 0x7f ? '?' : c;
+    }
   }
   quoted += '\'';
   return quoted;

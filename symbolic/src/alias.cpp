@@ -1,0 +1,239 @@
+// Alias elimination; see alias.hpp.
+#include "alias.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <optional>
+
+#include "mo/symbolic/substitute.hpp"
+#include "mo/symbolic/traversal.hpp"
+
+namespace mo::symbolic::detail {
+
+namespace {
+
+/// r = Σ coef·var + rest; coefficients and rest are time-invariant
+/// (constants and parameters only).
+struct LinearForm {
+  std::vector<std::pair<int, Expr>> terms;
+  Expr rest;
+};
+
+/// True if `e` has a variable, time, input or discrete leaf (not a constant
+/// expression of parameters).
+bool time_varying(const Dae& dae, Expr e) {
+  for (Expr l : leaves(dae.arena, std::span(&e, 1))) {
+    if (dae.arena.kind(l) != ExprKind::Symbol) return true;
+    if (dae.arena.symbol_info(l).role != SymbolRole::Parameter) return true;
+  }
+  return false;
+}
+
+std::optional<LinearForm> linear_form(Dae& dae, Expr r) {
+  ExprArena& a = dae.arena;
+  LinearForm out;
+  out.rest = a.constant(0.0);
+  std::vector<std::pair<Expr, Expr>> stack{{r, a.constant(1.0)}};
+  while (!stack.empty()) {
+    auto [e, c] = stack.back();
+    stack.pop_back();
+    const ExprKind k = a.kind(e);
+    if (k == ExprKind::Add || k == ExprKind::Sub) {
+      stack.emplace_back(a.operand(e, 0), c);
+      stack.emplace_back(a.operand(e, 1), k == ExprKind::Add ? c : a.neg(c));
+    } else if (k == ExprKind::Neg) {
+      stack.emplace_back(a.operand(e, 0), a.neg(c));
+    } else if (k == ExprKind::Mul && !time_varying(dae, a.operand(e, 0))) {
+      stack.emplace_back(a.operand(e, 1), a.mul(c, a.operand(e, 0)));
+    } else if (k == ExprKind::Mul && !time_varying(dae, a.operand(e, 1))) {
+      stack.emplace_back(a.operand(e, 0), a.mul(c, a.operand(e, 1)));
+    } else if (const int v = k == ExprKind::Symbol ? dae.var_of(e) : none; v != none) {
+      if (dae.vars[static_cast<std::size_t>(v)].eliminated) return std::nullopt;  // next pass
+      auto it = std::find_if(out.terms.begin(), out.terms.end(),
+                             [v](const auto& t) { return t.first == v; });
+      if (it == out.terms.end()) {
+        if (out.terms.size() == 2) return std::nullopt;
+        out.terms.emplace_back(v, c);
+      } else {
+        it->second = a.add(it->second, c);
+      }
+    } else if (time_varying(dae, e)) {
+      return std::nullopt;
+    } else {
+      out.rest = a.add(out.rest, a.mul(c, e));
+    }
+  }
+  std::erase_if(out.terms, [&](const auto& t) { return a.is_constant(t.second, 0.0); });
+  return out;
+}
+
+class AliasEliminator {
+public:
+  explicit AliasEliminator(Dae& d) : dae_(d), a_(d.arena) {}
+
+  AliasStats run() {
+    AliasStats stats;
+    for (bool changed = true; changed && stats.passes < 50;) {
+      ++stats.passes;
+      changed = false;
+      for (std::size_t i = 0; i < dae_.eqs.size(); ++i) {
+        DaeEq& eq = dae_.eqs[i];
+        if (eq.removed) continue;
+        if (!carry_.empty()) eq.residual = substitute(a_, eq.residual, carry_);
+        if (try_eliminate(eq)) {
+          eq.removed = true;
+          changed = true;
+        }
+      }
+      compose();
+    }
+    finish();
+    stats.eliminated = eliminated_count_;
+    return stats;
+  }
+
+private:
+  DaeVar& var(int v) { return dae_.vars[static_cast<std::size_t>(v)]; }
+
+  /// Higher is a better variable to keep.
+  int score(int v) {
+    const DaeVar& d = var(v);
+    const auto dots = std::count(d.info.name.begin(), d.info.name.end(), '.');
+    return (d.derivative != none ? 8 : 0) + (d.fixed ? 4 : 0) + (d.start_given ? 2 : 0) -
+           static_cast<int>(std::min<std::ptrdiff_t>(dots, 1));
+  }
+
+  /// A coefficient we may divide by: a nonzero number.
+  bool divisible(Expr c) { return a_.is_constant(c) && a_.constant_value(c) != 0.0; }
+
+  bool try_eliminate(const DaeEq& eq) {
+    const auto form = linear_form(dae_, eq.residual);
+    if (!form) return false;
+    const auto& t = form->terms;
+    if (t.size() == 1) {  // c·v + rest = 0
+      if (var(t[0].first).integral != none || !divisible(t[0].second)) return false;
+      Expr value = a_.div(a_.neg(form->rest), t[0].second);
+      if (a_.is_constant(value)) value = a_.constant(a_.constant_value(value) + 0.0);  // no -0
+      eliminate(t[0].first, value, Expr(), Expr());
+      return true;
+    }
+    if (t.size() != 2) return false;
+    if (a_.is_constant(form->rest, 0.0) && a_.is_constant(t[0].second) &&
+        a_.is_constant(t[1].second) &&
+        a_.constant_value(t[0].second) == -a_.constant_value(t[1].second) &&
+        (derivative_link(t[0].first, t[1].first) || derivative_link(t[1].first, t[0].first)))
+      return true;
+    // Eliminate the lower-scored variable among those with a numeric coefficient.
+    int drop = -1, keep = -1;
+    for (int i : {0, 1}) {
+      const int j = 1 - i;
+      if (!divisible(t[i].second) || var(t[i].first).integral != none ||
+          var(t[j].first).integral != none)
+        continue;
+      if (drop == -1 || score(t[i].first) < score(drop)) {
+        drop = t[i].first;
+        keep = t[j].first;
+      }
+    }
+    if (drop == -1) return false;
+    const std::size_t di = t[0].first == drop ? 0 : 1;
+    // drop = k·keep + c with k = -c_keep/c_drop and c = -rest/c_drop.
+    const Expr k = a_.neg(a_.div(t[1 - di].second, t[di].second));
+    const Expr c = a_.neg(a_.div(form->rest, t[di].second));
+    const Expr ks = var(keep).symbol;
+    eliminate(drop, a_.add(a_.mul(k, ks), c), ks, k);
+    if (a_.is_constant(c, 0.0) && a_.is_constant(k) && std::abs(a_.constant_value(k)) == 1.0)
+      inherit_start(keep, drop, a_.constant_value(k));
+    return true;
+  }
+
+  /// v = der(x) with v not a derivative: v becomes der(x)'s replacement.
+  bool derivative_link(int v, int dx) {
+    if (var(dx).integral == none || var(v).integral != none) return false;
+    const int x = var(dx).integral;
+    if (x == v) return false;
+    if (var(dx).derivative != none) return false;  // der(der(x)) exists: keep it simple
+    var(x).derivative = v;
+    var(v).integral = x;
+    var(dx).integral = none;
+    record(dx, var(v).symbol);
+    return true;
+  }
+
+  void inherit_start(int keep, int drop, double sign) {
+    DaeVar& k = var(keep);
+    const DaeVar& d = var(drop);
+    if ((d.fixed && !k.fixed) || (d.start_given && !k.start_given)) {
+      k.start = sign == 1.0 ? d.start : a_.neg(d.start);
+      k.fixed = k.fixed || d.fixed;
+      k.start_given = true;
+    }
+  }
+
+  /// drop := value; if drop has a derivative, it follows: k·der(keep), or 0
+  /// when `keep` is invalid (value is constant in time). k is time-invariant.
+  void eliminate(int drop, Expr value, Expr keep, Expr k) {
+    record(drop, value);
+    const int dd = var(drop).derivative;
+    if (dd == none) return;
+    var(drop).derivative = none;
+    var(dd).integral = none;
+    if (!keep.valid()) {
+      eliminate(dd, a_.constant(0.0), Expr(), Expr());
+      return;
+    }
+    const int kd = dae_.derivative_of(dae_.var_of(keep));
+    const Expr ks = var(kd).symbol;
+    eliminate(dd, a_.mul(k, ks), ks, k);
+  }
+
+  void record(int v, Expr value) {
+    var(v).eliminated = true;
+    all_[var(v).symbol] = value;
+    order_.push_back(v);
+    ++eliminated_count_;
+  }
+
+  /// Values in `all_` may refer to variables eliminated after them: resolve
+  /// until every value is over remaining variables; the next pass substitutes
+  /// the resolved map into the residuals.
+  void compose() {
+    for (auto& [k, v] : all_)
+      for (int i = 0; i < 50 && mentions_eliminated(v); ++i) v = substitute(a_, v, all_);
+    carry_ = all_;
+  }
+
+  void finish() {
+    for (int v : order_)
+      if (!var(v).info.name.starts_with("der("))
+        dae_.eliminated.push_back({var(v).info, all_.at(var(v).symbol)});
+    for (auto& y : dae_.outputs) y.value = substitute(a_, y.value, all_);
+    for (auto& w : dae_.whens) {
+      w.condition = substitute(a_, w.condition, all_);
+      for (auto& s : w.assignments) s.value = substitute(a_, s.value, all_);
+      for (auto& [x, e] : w.reinits) e = substitute(a_, e, all_);
+    }
+    for (auto& d : dae_.vars)
+      if (!d.eliminated && d.start.valid()) d.start = substitute(a_, d.start, all_);
+  }
+
+  /// True if `e` still mentions an eliminated variable.
+  bool mentions_eliminated(Expr e) {
+    for (Expr l : leaves(a_, std::span(&e, 1)))
+      if (a_.kind(l) == ExprKind::Symbol && all_.contains(l)) return true;
+    return false;
+  }
+
+  Dae& dae_;
+  ExprArena& a_;
+  ExprMap carry_;    ///< resolved eliminations to substitute in the next pass
+  ExprMap all_;      ///< every eliminated variable → its value
+  std::vector<int> order_;
+  std::size_t eliminated_count_ = 0;
+};
+
+}  // namespace
+
+AliasStats eliminate_aliases(Dae& dae) { return AliasEliminator(dae).run(); }
+
+}  // namespace mo::symbolic::detail

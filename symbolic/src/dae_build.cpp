@@ -1,0 +1,321 @@
+// flat::Model → Dae; see dae_build.hpp.
+#include "dae_build.hpp"
+
+#include <cmath>
+#include <unordered_set>
+
+#include "dae_expr.hpp"
+#include "mo/symbolic/evaluator.hpp"
+
+namespace mo::symbolic::detail {
+
+namespace ast = frontend::ast;
+namespace flat = frontend::flat;
+using frontend::DiagId;
+
+int Dae::add_var(DaeVar v) {
+  const int index = static_cast<int>(vars.size());
+  // Internal names start with a control character no Modelica name has, so
+  // the final symbols (with their proper roles) can take the plain names.
+  v.symbol = arena.symbol("\x1f" + v.info.name, SymbolRole::Algebraic, index);
+  if (var_of_symbol.size() <= v.symbol.id()) var_of_symbol.resize(v.symbol.id() + 1, none);
+  var_of_symbol[v.symbol.id()] = index;
+  vars.push_back(std::move(v));
+  return index;
+}
+
+int Dae::derivative_of(int v) {
+  if (vars[static_cast<std::size_t>(v)].derivative != none)
+    return vars[static_cast<std::size_t>(v)].derivative;
+  DaeVar d;
+  const DaeVar& base = vars[static_cast<std::size_t>(v)];
+  d.info.name = "der(" + base.info.name + ")";
+  d.info.nominal = base.info.nominal;
+  d.integral = v;
+  d.range = base.range;
+  const int di = add_var(std::move(d));
+  vars[static_cast<std::size_t>(v)].derivative = di;
+  return di;
+}
+
+namespace {
+
+/// What a flat variable became.
+struct Slot {
+  enum Kind { Unset, Var, Value } kind = Unset;
+  int var = none;  ///< DaeVar index (Var)
+  Expr value;      ///< symbol or inlined expression (Value)
+};
+
+class Builder {
+public:
+  Builder(const flat::Model& f, frontend::DiagnosticEngine& d)
+      : f_(f), diags_(d), slots_(f.variables.size()) {
+    dae_.name = f.name;
+    dae_.time = dae_.arena.symbol("time", SymbolRole::Time, 0);
+    conv_.emplace(dae_.arena, dae_.time, diags_,
+                  [this](const ast::Expr& r) { return ref(r); },
+                  [this](const ast::Expr& x) { return der(x); });
+  }
+
+  std::optional<Dae> run() {
+    mark_discrete();
+    for (std::size_t i = 0; i < f_.variables.size(); ++i) declare(static_cast<int>(i));
+    for (std::size_t i = 0; i < f_.variables.size(); ++i) attributes(static_cast<int>(i));
+    for (const ast::Equation& eq : f_.equations) equation(eq);
+    outputs();
+    if (!conv_->ok() || !ok_) return std::nullopt;
+    return std::move(dae_);
+  }
+
+private:
+  const flat::Variable& fv(int i) const { return f_.variables[static_cast<std::size_t>(i)]; }
+
+  void error(DiagId id, frontend::SourceRange r, const std::string& msg) {
+    diags_.report(id, r, msg);
+    ok_ = false;
+  }
+
+  void mark_discrete() {
+    for (const ast::Equation& eq : f_.equations) {
+      if (eq.kind != ast::EquationKind::When) continue;
+      for (const auto& br : eq.branches)
+        for (const ast::Equation& s : br.body)
+          if (s.kind == ast::EquationKind::Simple && s.lhs->kind == ast::ExprKind::Ref &&
+              s.lhs->var >= 0)
+            discrete_.insert(s.lhs->var);
+    }
+  }
+
+  void declare(int i) {
+    const flat::Variable& v = fv(i);
+    Slot& s = slots_[static_cast<std::size_t>(i)];
+    VariableInfo info{v.name, v.description, v.attr.unit};
+    if (v.type == flat::BaseType::String) {
+      error(DiagId::UnsupportedInLowering, v.range, "String variables cannot be lowered");
+      s = {Slot::Value, none, dae_.arena.constant(0.0)};
+    } else if (v.variability == ast::Variability::Constant ||
+               (v.variability == ast::Variability::Parameter && v.type != flat::BaseType::Real)) {
+      s = {Slot::Value, none, dae_.arena.constant(v.value.value_or(0.0))};
+    } else if (v.variability == ast::Variability::Parameter) {
+      declare_parameter(i, info);
+    } else if (v.top_level_input) {
+      const auto k = static_cast<std::int32_t>(dae_.inputs.size());
+      s = {Slot::Value, none, dae_.arena.symbol(v.name, SymbolRole::Input, k)};
+      dae_.inputs.push_back({info, s.value});
+    } else if (discrete_.contains(i)) {
+      const auto k = static_cast<std::int32_t>(dae_.discrete.size());
+      s = {Slot::Value, none, dae_.arena.symbol(v.name, SymbolRole::Discrete, k)};
+      dae_.discrete.push_back({info, s.value, 0.0});
+    } else {
+      DaeVar d;
+      d.info = info;
+      d.state_select = v.attr.state_select;
+      d.range = v.range;
+      s = {Slot::Var, dae_.add_var(std::move(d)), Expr()};
+    }
+  }
+
+  /// A Real parameter with a literal value becomes a parameter symbol; one
+  /// bound to an expression of other parameters is inlined when referenced.
+  void declare_parameter(int i, const VariableInfo& info) {
+    const flat::Variable& v = fv(i);
+    const bool literal = !v.binding || v.binding->kind == ast::ExprKind::Real ||
+                         v.binding->kind == ast::ExprKind::Integer;
+    if (!literal) return;  // Slot stays Unset: converted on first reference
+    if (!v.value)
+      diags_.report(DiagId::ParameterWithoutValue, v.range,
+                    "parameter '" + v.name + "' has no value; using 0");
+    const auto k = static_cast<std::int32_t>(dae_.parameters.size());
+    const Expr sym = dae_.arena.symbol(v.name, SymbolRole::Parameter, k);
+    slots_[static_cast<std::size_t>(i)] = {Slot::Value, none, sym};
+    dae_.parameters.push_back({info, sym, v.value.value_or(0.0)});
+  }
+
+  Expr ref(const ast::Expr& r) {
+    Slot& s = slots_[static_cast<std::size_t>(r.var)];
+    if (s.kind == Slot::Var) return dae_.vars[static_cast<std::size_t>(s.var)].symbol;
+    if (s.kind == Slot::Value) return s.value;
+    if (in_progress_.contains(r.var))
+      return conv_->fail(r, "parameter '" + fv(r.var).name + "' depends on itself");
+    in_progress_.insert(r.var);
+    const Expr value = conv_->convert(*fv(r.var).binding);
+    in_progress_.erase(r.var);
+    s = {Slot::Value, none, value};
+    return value;
+  }
+
+  Expr der(const ast::Expr& x) {
+    const Expr e = conv_->convert(x);
+    bool input_hit = false;
+    const Expr d = time_derivative(dae_, e, input_hit);
+    if (input_hit)
+      error(DiagId::DifferentiatedInput, x.range,
+            "der() of an expression with an input: inputs cannot be differentiated");
+    return d;
+  }
+
+  /// Evaluates an attribute expression at the default parameter values.
+  std::optional<double> value_of(Expr e) {
+    LeafValues values;
+    for (const auto& p : dae_.parameters) values[p.symbol] = p.value;
+    try {
+      return evaluate(dae_.arena, std::span(&e, 1), values)[0];
+    } catch (const std::invalid_argument&) {
+      return std::nullopt;
+    }
+  }
+
+  void attributes(int i) {
+    const flat::Variable& v = fv(i);
+    const Slot& s = slots_[static_cast<std::size_t>(i)];
+    const flat::Attributes& at = v.attr;
+    auto number = [&](const ast::ExprPtr& p, double fallback) {
+      if (!p) return fallback;
+      return value_of(conv_->convert(*p)).value_or(fallback);
+    };
+    VariableInfo* info = nullptr;
+    if (s.kind == Slot::Var) info = &dae_.vars[static_cast<std::size_t>(s.var)].info;
+    for (auto& p : dae_.parameters)
+      if (p.symbol == s.value && s.kind == Slot::Value) info = &p.info;
+    for (auto& d : dae_.discrete)
+      if (d.symbol == s.value && s.kind == Slot::Value) {
+        info = &d.info;
+        d.start = number(at.start, 0.0);
+      }
+    if (!info) return;
+    info->nominal = std::abs(number(at.nominal, 1.0));
+    if (info->nominal == 0.0) info->nominal = 1.0;
+    info->min = number(at.min, info->min);
+    info->max = number(at.max, info->max);
+    if (s.kind != Slot::Var) return;
+    DaeVar& d = dae_.vars[static_cast<std::size_t>(s.var)];
+    d.start_given = at.start != nullptr;
+    d.start = at.start ? conv_->convert(*at.start) : dae_.arena.constant(0.0);
+    d.fixed = number(at.fixed, 0.0) != 0.0;
+  }
+
+  void equation(const ast::Equation& eq);
+  void if_equation(const ast::Equation& eq);
+  void when_equation(const ast::Equation& eq);
+  void outputs();
+
+  const flat::Model& f_;
+  frontend::DiagnosticEngine& diags_;
+  Dae dae_;
+  std::vector<Slot> slots_;
+  std::unordered_set<int> discrete_;
+  std::unordered_set<int> in_progress_;
+  std::optional<ExprConverter> conv_;
+  bool ok_ = true;
+};
+
+void Builder::equation(const ast::Equation& eq) {
+  switch (eq.kind) {
+  case ast::EquationKind::Simple: {
+    DaeEq e;
+    e.residual = dae_.arena.sub(conv_->convert(*eq.lhs), conv_->convert(*eq.rhs));
+    e.range = eq.range;
+    if (eq.lhs->kind == ast::ExprKind::Ref && eq.lhs->var >= 0 &&
+        slots_[static_cast<std::size_t>(eq.lhs->var)].kind == Slot::Var)
+      e.lhs_var = slots_[static_cast<std::size_t>(eq.lhs->var)].var;
+    dae_.eqs.push_back(e);
+    return;
+  }
+  case ast::EquationKind::If: if_equation(eq); return;
+  case ast::EquationKind::When: when_equation(eq); return;
+  case ast::EquationKind::Call: {
+    const std::string n = eq.lhs->ref.str();
+    if (n == "assert") return;  // checked by the front end's balance only; see README
+    error(DiagId::UnsupportedInLowering, eq.range, "'" + n + "' equations cannot be lowered");
+    return;
+  }
+  case ast::EquationKind::Connect:
+  case ast::EquationKind::For:
+  case ast::EquationKind::Constraint: break;
+  }
+  error(DiagId::UnsupportedInLowering, eq.range,
+        "this equation should have been expanded by flattening");
+}
+
+/// if c1 then A elseif c2 then B else C end if, every branch with the same
+/// number of simple equations: residual_i = if c1 then a_i else if c2 ...
+void Builder::if_equation(const ast::Equation& eq) {
+  std::vector<std::vector<Expr>> branch_residuals;
+  for (const auto& br : eq.branches) {
+    std::vector<Expr> rs;
+    for (const ast::Equation& s : br.body) {
+      if (s.kind != ast::EquationKind::Simple) {
+        error(DiagId::UnsupportedInLowering, s.range,
+              "only simple equations are supported inside an if-equation with a "
+              "time-varying condition");
+        return;
+      }
+      rs.push_back(dae_.arena.sub(conv_->convert(*s.lhs), conv_->convert(*s.rhs)));
+    }
+    branch_residuals.push_back(std::move(rs));
+  }
+  const bool has_else = !eq.branches.empty() && !eq.branches.back().condition;
+  for (const auto& rs : branch_residuals)
+    if (rs.size() != branch_residuals.front().size() || !has_else) {
+      error(DiagId::UnsupportedInLowering, eq.range,
+            "an if-equation with a time-varying condition needs an else branch and the "
+            "same number of equations in every branch");
+      return;
+    }
+  for (std::size_t i = 0; i < branch_residuals.front().size(); ++i) {
+    Expr r = branch_residuals.back()[i];
+    for (std::size_t b = eq.branches.size() - 1; b-- > 0;)
+      r = dae_.arena.select(conv_->convert(*eq.branches[b].condition), branch_residuals[b][i], r);
+    DaeEq e;
+    e.residual = r;
+    e.range = eq.range;
+    dae_.eqs.push_back(e);
+  }
+}
+
+void Builder::when_equation(const ast::Equation& eq) {
+  for (const auto& br : eq.branches) {
+    DaeWhen w;
+    w.condition = conv_->convert(*br.condition);
+    w.range = br.range;
+    for (const ast::Equation& s : br.body) {
+      if (s.kind == ast::EquationKind::Simple && s.lhs->kind == ast::ExprKind::Ref &&
+          s.lhs->var >= 0) {
+        w.assignments.push_back({ref(*s.lhs), conv_->convert(*s.rhs)});
+      } else if (s.kind == ast::EquationKind::Call && s.lhs->ref.str() == "reinit") {
+        const ast::Expr& target = *s.lhs->args[0];
+        const Slot& slot = slots_[static_cast<std::size_t>(target.var)];
+        if (slot.kind != Slot::Var) {
+          error(DiagId::UnsupportedInLowering, s.range, "reinit() of a non-continuous variable");
+          continue;
+        }
+        w.reinits.emplace_back(slot.var, conv_->convert(*s.lhs->args[1]));
+      } else if (s.kind == ast::EquationKind::Call && s.lhs->ref.str() == "assert") {
+        continue;
+      } else {
+        error(DiagId::UnsupportedInLowering, s.range,
+              "only `v = expr` and reinit(x, expr) are supported inside when-clauses");
+      }
+    }
+    dae_.whens.push_back(std::move(w));
+  }
+}
+
+void Builder::outputs() {
+  for (std::size_t i = 0; i < f_.variables.size(); ++i) {
+    const flat::Variable& v = f_.variables[i];
+    if (v.causality != ast::Causality::Output || v.name.find('.') != std::string::npos) continue;
+    ast::Expr r(ast::ExprKind::Ref, v.range);
+    r.var = static_cast<std::int32_t>(i);
+    dae_.outputs.push_back({{v.name, v.description, v.attr.unit}, ref(r)});
+  }
+}
+
+}  // namespace
+
+std::optional<Dae> build_dae(const flat::Model& flat, frontend::DiagnosticEngine& diags) {
+  return Builder(flat, diags).run();
+}
+
+}  // namespace mo::symbolic::detail

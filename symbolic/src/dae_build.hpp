@@ -1,0 +1,22 @@
+// flat::Model → Dae: symbols for unknowns, parameters, inputs and discrete
+// variables; residuals for equations; when-clauses. Reports what lowering
+// does not support with the source range of the construct.
+#pragma once
+
+#include <optional>
+
+#include "dae.hpp"
+#include "mo/frontend/diagnostics.hpp"
+#include "mo/frontend/flat.hpp"
+
+namespace mo::symbolic::detail {
+
+/// Builds the DAE of `flat`; nullopt after reporting errors to `diags`.
+std::optional<Dae> build_dae(const frontend::flat::Model& flat, frontend::DiagnosticEngine& diags);
+
+/// d/dt of `e`: every variable v with DAE index maps to der(v) (created on
+/// demand), time to 1; parameters, discrete variables and constants to 0.
+/// Inputs cannot be differentiated: `input_hit` is set if one is reached.
+Expr time_derivative(Dae& dae, Expr e, bool& input_hit);
+
+}  // namespace mo::symbolic::detail

@@ -1,0 +1,151 @@
+// ast::Expr (flat, resolved references) → symbolic Expr, and d/dt of a
+// symbolic expression over DAE variables.
+#include "dae_expr.hpp"
+
+#include "dae.hpp"
+#include "dae_build.hpp"
+
+#include <cmath>
+
+#include "mo/symbolic/differentiate.hpp"
+#include "mo/symbolic/traversal.hpp"
+
+namespace mo::symbolic::detail {
+
+namespace ast = frontend::ast;
+using frontend::DiagId;
+
+namespace {
+
+Expr binary(ExprArena& a, ast::Op op, Expr l, Expr r) {
+  switch (op) {
+  case ast::Op::Add: case ast::Op::ElemAdd: return a.add(l, r);
+  case ast::Op::Sub: case ast::Op::ElemSub: return a.sub(l, r);
+  case ast::Op::Mul: case ast::Op::ElemMul: return a.mul(l, r);
+  case ast::Op::Div: case ast::Op::ElemDiv: return a.div(l, r);
+  case ast::Op::Pow: case ast::Op::ElemPow: return a.pow(l, r);
+  case ast::Op::Lt: return a.lt(l, r);
+  case ast::Op::Le: return a.le(l, r);
+  case ast::Op::Gt: return a.gt(l, r);
+  case ast::Op::Ge: return a.ge(l, r);
+  case ast::Op::Eq: return a.eq(l, r);
+  case ast::Op::Ne: return a.ne(l, r);
+  case ast::Op::And: return a.logical_and(l, r);
+  case ast::Op::Or: return a.logical_or(l, r);
+  case ast::Op::Neg: case ast::Op::Plus: case ast::Op::Not: break;
+  }
+  return Expr();
+}
+
+/// div(a, b): a/b truncated toward zero.
+Expr trunc_div(ExprArena& a, Expr x, Expr y) {
+  const Expr q = a.div(x, y);
+  return a.mul(a.sign(q), a.floor(a.abs(q)));
+}
+
+}  // namespace
+
+Expr ExprConverter::fail(const ast::Expr& e, const std::string& what) {
+  if (ok_) diags_.report(DiagId::UnsupportedInLowering, e.range, what);
+  ok_ = false;
+  return a_.constant(0.0);
+}
+
+Expr ExprConverter::convert(const ast::Expr& e) {
+  switch (e.kind) {
+  case ast::ExprKind::Real:
+  case ast::ExprKind::Integer:
+  case ast::ExprKind::Boolean: return a_.constant(e.number);
+  case ast::ExprKind::Ref:
+    if (e.var >= 0) return refs_(e);
+    if (e.ref.is_simple() && e.ref.parts[0].name == "time") return time_;
+    return fail(e, "reference to '" + e.ref.str() + "' cannot be lowered");
+  case ast::ExprKind::Call: return call(e);
+  case ast::ExprKind::Unary: {
+    const Expr x = convert(*e.args[0]);
+    if (e.op == ast::Op::Neg) return a_.neg(x);
+    if (e.op == ast::Op::Not) return a_.logical_not(x);
+    return x;
+  }
+  case ast::ExprKind::Binary:
+    return binary(a_, e.op, convert(*e.args[0]), convert(*e.args[1]));
+  case ast::ExprKind::If: {
+    Expr out = convert(*e.args.back());
+    for (std::size_t i = e.args.size() - 1; i >= 2; i -= 2)
+      out = a_.select(convert(*e.args[i - 2]), convert(*e.args[i - 1]), out);
+    return out;
+  }
+  case ast::ExprKind::String:
+  case ast::ExprKind::Array:
+  case ast::ExprKind::Matrix:
+  case ast::ExprKind::Range:
+  case ast::ExprKind::Tuple:
+  case ast::ExprKind::Colon:
+  case ast::ExprKind::End: break;
+  }
+  return fail(e, "this expression cannot be lowered (strings, arrays and ranges must be "
+                 "scalarised by flattening)");
+}
+
+Expr ExprConverter::call(const ast::Expr& e) {
+  const std::string name = e.ref.str();
+  std::vector<Expr> x;
+  if (name != "der" && name != "pre" && name != "edge" && name != "change")
+    for (const auto& arg : e.args) x.push_back(convert(*arg));
+  auto need = [&](std::size_t n) { return e.args.size() == n; };
+  static const std::pair<const char*, ExprKind> unary[] = {
+      {"sin", ExprKind::Sin},     {"cos", ExprKind::Cos},     {"tan", ExprKind::Tan},
+      {"asin", ExprKind::Asin},   {"acos", ExprKind::Acos},   {"atan", ExprKind::Atan},
+      {"sinh", ExprKind::Sinh},   {"cosh", ExprKind::Cosh},   {"tanh", ExprKind::Tanh},
+      {"exp", ExprKind::Exp},     {"log", ExprKind::Log},     {"log10", ExprKind::Log10},
+      {"sqrt", ExprKind::Sqrt},   {"abs", ExprKind::Abs},     {"sign", ExprKind::Sign},
+      {"floor", ExprKind::Floor}, {"ceil", ExprKind::Ceil},   {"noEvent", ExprKind::NoEvent},
+      {"integer", ExprKind::Floor}};
+  for (const auto& [n, k] : unary)
+    if (name == n && need(1)) return a_.apply(k, x[0]);
+  if (name == "atan2" && need(2)) return a_.atan2(x[0], x[1]);
+  if (name == "min" && need(2)) return a_.min(x[0], x[1]);
+  if (name == "max" && need(2)) return a_.max(x[0], x[1]);
+  if (name == "div" && need(2)) return trunc_div(a_, x[0], x[1]);
+  if (name == "mod" && need(2))
+    return a_.sub(x[0], a_.mul(a_.floor(a_.div(x[0], x[1])), x[1]));
+  if (name == "rem" && need(2)) return a_.sub(x[0], a_.mul(trunc_div(a_, x[0], x[1]), x[1]));
+  if (name == "smooth" && need(2)) {
+    const double p = a_.is_constant(x[0]) ? a_.constant_value(x[0]) : -1;
+    if (p >= 0 && p == std::floor(p)) return a_.smooth(static_cast<int>(p), x[1]);
+    return fail(e, "smooth() needs a constant order");
+  }
+  if (name == "initial" || name == "terminal") return a_.constant(0.0);
+  if (name == "der" && need(1)) return der_(*e.args[0]);
+  if ((name == "pre" || name == "edge" || name == "change") && need(1)) {
+    const Expr v = convert(*e.args[0]);
+    const Expr p = a_.kind(v) == ExprKind::Symbol &&
+                           a_.symbol_info(v).role == SymbolRole::Discrete
+                       ? a_.pre(v)
+                       : v;  // pre of a continuous variable is its value
+    if (name == "pre") return p;
+    if (name == "edge") return a_.logical_and(v, a_.logical_not(p));
+    return a_.ne(v, p);
+  }
+  return fail(e, "call of '" + name + "' cannot be lowered");
+}
+
+Expr time_derivative(Dae& dae, Expr e, bool& input_hit) {
+  ExprArena& a = dae.arena;
+  ExprMap seeds;
+  for (Expr leaf : leaves(a, std::span(&e, 1))) {
+    if (a.kind(leaf) != ExprKind::Symbol) continue;
+    const SymbolInfo info = a.symbol_info(leaf);
+    if (info.role == SymbolRole::Time) {
+      seeds[leaf] = a.constant(1.0);
+    } else if (info.role == SymbolRole::Input) {
+      input_hit = true;
+    } else if (const int v = dae.var_of(leaf); v != none) {
+      const int d = dae.derivative_of(v);
+      seeds[leaf] = dae.vars[static_cast<std::size_t>(d)].symbol;
+    }
+  }
+  return forward_derivative(a, e, seeds);
+}
+
+}  // namespace mo::symbolic::detail

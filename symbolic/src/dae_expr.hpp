@@ -1,0 +1,43 @@
+// Conversion of flat ast::Expr trees into the symbolic arena.
+#pragma once
+
+#include <functional>
+#include <string>
+
+#include "mo/frontend/ast.hpp"
+#include "mo/frontend/diagnostics.hpp"
+#include "mo/symbolic/expr_arena.hpp"
+
+namespace mo::symbolic::detail {
+
+/// Converts expressions; references to flat variables and der() go through
+/// callbacks so the caller decides what a variable stands for. Unsupported
+/// constructs are reported once (the first) and convert to 0.
+class ExprConverter {
+public:
+  using RefFn = std::function<Expr(const frontend::ast::Expr& ref)>;
+  using DerFn = std::function<Expr(const frontend::ast::Expr& argument)>;
+
+  ExprConverter(ExprArena& arena, Expr time, frontend::DiagnosticEngine& diags, RefFn refs,
+                DerFn der)
+      : a_(arena), time_(time), diags_(diags), refs_(std::move(refs)), der_(std::move(der)) {}
+
+  /// The symbolic form of `e` (recursive over the tree; flat trees are shallow).
+  Expr convert(const frontend::ast::Expr& e);
+  /// False once something could not be converted (and was reported).
+  [[nodiscard]] bool ok() const { return ok_; }
+  /// Reports `what` at e's range (once) and returns 0.
+  Expr fail(const frontend::ast::Expr& e, const std::string& what);
+
+private:
+  Expr call(const frontend::ast::Expr& e);
+
+  ExprArena& a_;
+  Expr time_;
+  frontend::DiagnosticEngine& diags_;
+  RefFn refs_;
+  DerFn der_;
+  bool ok_ = true;
+};
+
+}  // namespace mo::symbolic::detail

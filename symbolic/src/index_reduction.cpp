@@ -1,0 +1,351 @@
+// Pantelides' algorithm and dummy-derivative state selection; see
+// index_reduction.hpp.
+#include "index_reduction.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "dae_build.hpp"
+#include "mo/symbolic/differentiate.hpp"
+#include "mo/symbolic/evaluator.hpp"
+#include "mo/symbolic/structure.hpp"
+#include "mo/symbolic/traversal.hpp"
+
+namespace mo::symbolic::detail {
+
+using frontend::DiagId;
+
+namespace {
+
+std::size_t at(int i) { return static_cast<std::size_t>(i); }
+
+std::vector<int> unknowns_of(const Dae& dae, Expr residual) {
+  std::vector<int> out;
+  for (Expr l : leaves(dae.arena, std::span(&residual, 1))) {
+    if (dae.arena.kind(l) != ExprKind::Symbol) continue;
+    const int v = dae.var_of(l);
+    if (v != none && !dae.vars[at(v)].eliminated) out.push_back(v);
+  }
+  return out;
+}
+
+/// Pantelides' algorithm with an iterative augmenting-path search.
+class Pantelides {
+public:
+  Pantelides(Dae& d, frontend::DiagnosticEngine& diags)
+      : dae_(d), diags_(diags), inc_(incidence(d)) {}
+
+  bool run() {
+    assign_.assign(dae_.vars.size(), none);
+    const std::size_t original = dae_.eqs.size();
+    for (std::size_t k = 0; k < original; ++k) {
+      if (dae_.eqs[k].removed) continue;
+      int i = static_cast<int>(k);
+      for (int depth = 0;; ++depth) {
+        if (augment(i)) break;
+        if (depth == kMaxDepth || inc_[at(i)].empty()) return singular(i);
+        if (!differentiate(i)) return false;
+        i = dae_.eqs[at(i)].derivative;
+      }
+    }
+    return true;
+  }
+
+private:
+  static constexpr int kMaxDepth = 6;
+
+  /// A DFS frame: equation, next incidence position, the variable that led here.
+  struct Frame {
+    int eq;
+    std::size_t next;
+    int via;
+  };
+
+  bool active(int v) const { return dae_.vars[at(v)].derivative == none; }
+
+  /// Augmenting path from equation `root` over active variables; colours what it visits.
+  bool augment(int root) {
+    colored_eqs_.clear();
+    colored_vars_.clear();
+    ++stamp_;
+    var_mark_.resize(dae_.vars.size(), 0);
+    eq_mark_.resize(dae_.eqs.size(), 0);
+    auto var_seen = [&](int v) { return var_mark_[at(v)] == stamp_; };
+    auto eq_seen = [&](int e) { return eq_mark_[at(e)] == stamp_; };
+    std::vector<Frame> stack{{root, 0, none}};
+    eq_mark_[at(root)] = stamp_;
+    colored_eqs_.push_back(root);
+    // Cheap pass: a free active variable in the root equation.
+    for (int v : inc_[at(root)])
+      if (active(v) && assign_[at(v)] == none) {
+        assign_[at(v)] = root;
+        return true;
+      }
+    while (!stack.empty()) {
+      Frame& f = stack.back();
+      const auto& vars = inc_[at(f.eq)];
+      if (f.next == vars.size()) {
+        stack.pop_back();
+        continue;
+      }
+      const int v = vars[f.next++];
+      if (!active(v) || var_seen(v)) continue;
+      var_mark_[at(v)] = stamp_;
+      colored_vars_.push_back(v);
+      const int owner = assign_[at(v)];
+      if (owner == none) return flip(stack, v);
+      if (eq_seen(owner)) continue;
+      eq_mark_[at(owner)] = stamp_;
+      colored_eqs_.push_back(owner);
+      for (int w : inc_[at(owner)])
+        if (active(w) && assign_[at(w)] == none) {
+          stack.push_back({owner, 0, v});
+          return flip(stack, w);
+        }
+      stack.push_back({owner, 0, v});
+    }
+    return false;
+  }
+
+  /// Reassigns along the DFS stack ending in free variable `v`.
+  bool flip(const std::vector<Frame>& stack, int v) {
+    for (std::size_t i = stack.size(); i-- > 0;) {
+      assign_[at(v)] = stack[i].eq;
+      v = stack[i].via;
+    }
+    return true;
+  }
+
+  bool differentiate(int root) {
+    for (int v : colored_vars_) {
+      const int d = dae_.derivative_of(v);
+      if (assign_.size() < dae_.vars.size()) assign_.resize(dae_.vars.size(), none);
+      (void)d;
+    }
+    for (int e : colored_eqs_) {
+      bool input_hit = false;
+      DaeEq de;
+      de.residual = time_derivative(dae_, dae_.eqs[at(e)].residual, input_hit);
+      if (assign_.size() < dae_.vars.size()) assign_.resize(dae_.vars.size(), none);
+      if (input_hit) {
+        diags_.report(DiagId::DifferentiatedInput, dae_.eqs[at(e)].range,
+                      "index reduction must differentiate this equation, which involves a "
+                      "top-level input; inputs cannot be differentiated");
+        return false;
+      }
+      de.range = dae_.eqs[at(e)].range;
+      de.integral = e;
+      de.lhs_var = dae_.eqs[at(e)].lhs_var;
+      const int index = static_cast<int>(dae_.eqs.size());
+      dae_.eqs[at(e)].derivative = index;
+      dae_.eqs.push_back(de);
+      inc_.push_back(unknowns_of(dae_, de.residual));
+    }
+    for (int v : colored_vars_)
+      assign_[at(dae_.vars[at(v)].derivative)] = dae_.eqs[at(assign_[at(v)])].derivative;
+    (void)root;
+    return true;
+  }
+
+  bool singular(int eq) {
+    auto& d = diags_.report(DiagId::StructurallySingular, dae_.eqs[at(eq)].range,
+                            "the system is structurally singular: this equation cannot be "
+                            "solved for any unknown, even after differentiation");
+    (void)d;
+    int shown = 0;
+    for (int v : colored_vars_) {
+      if (++shown > 8) break;
+      diags_.note(dae_.vars[at(v)].range,
+                  "competing for '" + dae_.vars[at(v)].info.name + "'");
+    }
+    return false;
+  }
+
+  Dae& dae_;
+  frontend::DiagnosticEngine& diags_;
+  std::vector<std::vector<int>> inc_;
+  std::vector<int> assign_;
+  std::vector<int> colored_eqs_, colored_vars_;
+  std::vector<int> var_mark_, eq_mark_;  ///< == stamp_: visited by this search
+  int stamp_ = 0;
+};
+
+/// Root equation of `e`'s differentiation chain.
+int chain_root(const Dae& dae, int e) {
+  while (dae.eqs[at(e)].integral != none) e = dae.eqs[at(e)].integral;
+  return e;
+}
+
+int chain_base(const Dae& dae, int v) {
+  while (dae.vars[at(v)].integral != none) v = dae.vars[at(v)].integral;
+  return v;
+}
+
+/// Lower is a better dummy for equation `e`.
+int dummy_rank(const Dae& dae, int e, int v) {
+  const std::string& ss = dae.vars[at(chain_base(dae, v))].state_select;
+  if (ss == "always") return 100;
+  int rank = 10;
+  if (ss == "prefer") rank += 20;
+  if (ss == "never") rank -= 8;
+  if (ss == "avoid") rank -= 4;
+  if (chain_base(dae, v) == dae.eqs[at(chain_root(dae, e))].lhs_var) rank -= 2;
+  return rank;
+}
+
+/// Values of every variable at its start (derivatives 0), parameters at
+/// their defaults, time 0: the point where dummy pivots are compared.
+LeafValues start_point(const Dae& dae) {
+  LeafValues values;
+  for (const auto& p : dae.parameters) values[p.symbol] = p.value;
+  values[dae.time] = 0.0;
+  for (const auto& u : dae.inputs) values[u.symbol] = 0.0;
+  for (const auto& d : dae.discrete) values[d.symbol] = d.start;
+  LeafValues out = values;
+  for (const DaeVar& v : dae.vars) {
+    double x = 0.0;
+    if (v.start.valid()) {
+      try {
+        x = evaluate(dae.arena, std::span(&v.start, 1), values)[0];
+      } catch (const std::invalid_argument&) {
+      }
+    }
+    out[v.symbol] = x;
+  }
+  return out;
+}
+
+/// |∂residual/∂v| at the start point (0 if it cannot be evaluated).
+double pivot_size(Dae& dae, const LeafValues& point, int e, int v) {
+  const Expr d = derivative(dae.arena, dae.eqs[at(e)].residual, dae.vars[at(v)].symbol);
+  try {
+    const double x = evaluate(dae.arena, std::span(&d, 1), point)[0];
+    return std::isfinite(x) ? std::abs(x) : 0.0;
+  } catch (const std::invalid_argument&) {
+    return 0.0;
+  }
+}
+
+}  // namespace
+
+std::vector<std::vector<int>> incidence(const Dae& dae) {
+  std::vector<std::vector<int>> out(dae.eqs.size());
+  for (std::size_t e = 0; e < dae.eqs.size(); ++e)
+    if (!dae.eqs[e].removed) out[e] = unknowns_of(dae, dae.eqs[e].residual);
+  return out;
+}
+
+bool pantelides(Dae& dae, frontend::DiagnosticEngine& diags) {
+  return structurally_regular(dae, diags) && Pantelides(dae, diags).run();
+}
+
+void report_singular(const Dae& dae, const std::vector<int>& eqs, const std::vector<int>& vars,
+                     frontend::DiagnosticEngine& diags) {
+  for (std::size_t i = 0; i < eqs.size() && i < 10; ++i)
+    diags.report(DiagId::StructurallySingular, dae.eqs[at(eqs[i])].range,
+                 "structurally singular: this equation has no unknown left to solve for "
+                 "(the system is over-determined here)");
+  for (std::size_t j = 0; j < vars.size() && j < 10; ++j) {
+    const DaeVar& v = dae.vars[at(vars[j])];
+    diags.report(DiagId::StructurallySingular, v.range,
+                 "structurally singular: no equation is left to determine '" + v.info.name +
+                     "' (the system is under-determined here)");
+  }
+}
+
+bool structurally_regular(const Dae& dae, frontend::DiagnosticEngine& diags) {
+  // Each variable counts together with its derivatives: Pantelides terminates
+  // exactly when this matching is perfect (else no differentiation helps).
+  std::vector<int> column(dae.vars.size(), none), base_of;
+  std::vector<std::vector<int>> rows;
+  std::vector<int> eqs;
+  const auto inc = incidence(dae);
+  for (std::size_t e = 0; e < dae.eqs.size(); ++e) {
+    if (dae.eqs[e].removed) continue;
+    std::vector<int> row;
+    for (int v : inc[e]) {
+      const int b = chain_base(dae, v);
+      if (column[at(b)] == none) {
+        column[at(b)] = static_cast<int>(base_of.size());
+        base_of.push_back(b);
+      }
+      row.push_back(column[at(b)]);
+    }
+    rows.push_back(std::move(row));
+    eqs.push_back(static_cast<int>(e));
+  }
+  for (std::size_t v = 0; v < dae.vars.size(); ++v)  // variables in no equation
+    if (!dae.vars[v].eliminated && dae.vars[v].integral == none && column[v] == none) {
+      column[v] = static_cast<int>(base_of.size());
+      base_of.push_back(static_cast<int>(v));
+    }
+  const Matching m =
+      maximum_matching(Incidence::from_lists(static_cast<int>(base_of.size()), rows));
+  if (m.size == static_cast<int>(rows.size()) && m.size == static_cast<int>(base_of.size()))
+    return true;
+  std::vector<int> bad_eqs, bad_vars;
+  for (std::size_t i = 0; i < rows.size(); ++i)
+    if (m.unknown_of[i] == none) bad_eqs.push_back(eqs[i]);
+  for (std::size_t j = 0; j < base_of.size(); ++j)
+    if (m.equation_of[j] == none) bad_vars.push_back(base_of[j]);
+  report_singular(dae, bad_eqs, bad_vars, diags);
+  return false;
+}
+
+std::vector<bool> select_states(Dae& dae) {
+  const LeafValues point = start_point(dae);
+  std::vector<bool> state(dae.vars.size(), false);
+  for (std::size_t v = 0; v < dae.vars.size(); ++v)
+    state[v] = !dae.vars[v].eliminated && dae.vars[v].derivative != none;
+  const auto inc = incidence(dae);
+  std::vector<int> level;  // G_j: differentiated equations at the top of their chains
+  for (std::size_t e = 0; e < dae.eqs.size(); ++e)
+    if (!dae.eqs[e].removed && dae.eqs[e].integral != none && dae.eqs[e].derivative == none)
+      level.push_back(static_cast<int>(e));
+  std::vector<char> candidate(dae.vars.size(), 0);
+  for (std::size_t v = 0; v < dae.vars.size(); ++v)
+    candidate[v] = dae.vars[v].derivative == none && dae.vars[v].integral != none;
+  while (!level.empty()) {
+    std::vector<int> columns;  // candidate variables of this level, by local index
+    std::vector<int> local(dae.vars.size(), none);
+    std::vector<std::vector<int>> rows;
+    for (int e : level) {
+      std::vector<int> c;
+      for (int v : inc[at(e)])
+        if (candidate[at(v)]) c.push_back(v);
+      std::vector<std::pair<std::pair<int, double>, int>> keyed;
+      for (int v : c) keyed.push_back({{dummy_rank(dae, e, v), -pivot_size(dae, point, e, v)}, v});
+      std::stable_sort(keyed.begin(), keyed.end(),
+                       [](const auto& a, const auto& b) { return a.first < b.first; });
+      for (std::size_t i = 0; i < c.size(); ++i) c[i] = keyed[i].second;
+      std::vector<int> row;
+      for (int v : c) {
+        if (local[at(v)] == none) {
+          local[at(v)] = static_cast<int>(columns.size());
+          columns.push_back(v);
+        }
+        row.push_back(local[at(v)]);
+      }
+      rows.push_back(std::move(row));
+    }
+    const Matching m =
+        maximum_matching(Incidence::from_lists(static_cast<int>(columns.size()), rows));
+    std::fill(candidate.begin(), candidate.end(), 0);
+    std::vector<int> next;
+    for (std::size_t r = 0; r < level.size(); ++r) {
+      const int col = m.unknown_of[r];
+      if (col == none) continue;
+      const int dummy = columns[at(col)];
+      const int integral = dae.vars[at(dummy)].integral;
+      state[at(integral)] = false;  // its derivative is a dummy: not a state
+      if (dae.vars[at(integral)].integral != none) candidate[at(integral)] = 1;
+      const int lower = dae.eqs[at(level[r])].integral;
+      if (dae.eqs[at(lower)].integral != none) next.push_back(lower);
+    }
+    level = std::move(next);
+  }
+  return state;
+}
+
+}  // namespace mo::symbolic::detail

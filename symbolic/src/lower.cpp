@@ -1,0 +1,270 @@
+// The lowering pipeline; see lower.hpp.
+#include "mo/symbolic/lower.hpp"
+
+#include <fmt/format.h>
+
+#include "alias.hpp"
+#include "dae_build.hpp"
+#include "index_reduction.hpp"
+#include "mo/symbolic/evaluator.hpp"
+#include "mo/symbolic/printer.hpp"
+#include "mo/symbolic/structure.hpp"
+#include "mo/symbolic/substitute.hpp"
+#include "solve.hpp"
+
+namespace mo::symbolic {
+
+using namespace detail;
+using frontend::DiagId;
+
+namespace {
+
+std::size_t at(int i) { return static_cast<std::size_t>(i); }
+
+/// The unknowns of the index-1 system and the live equations, renumbered.
+struct System {
+  std::vector<int> eqs;         ///< live DaeEq indices
+  std::vector<int> unknowns;    ///< DaeVar indices that are not states
+  std::vector<int> local;       ///< DaeVar → index in `unknowns`, or none
+  Incidence incidence;
+};
+
+System make_system(const Dae& dae, const std::vector<bool>& state) {
+  System s;
+  s.local.assign(dae.vars.size(), none);
+  for (std::size_t v = 0; v < dae.vars.size(); ++v)
+    if (!dae.vars[v].eliminated && !state[v]) {
+      s.local[v] = static_cast<int>(s.unknowns.size());
+      s.unknowns.push_back(static_cast<int>(v));
+    }
+  const auto inc = incidence(dae);
+  std::vector<std::vector<int>> rows;
+  for (std::size_t e = 0; e < dae.eqs.size(); ++e) {
+    if (dae.eqs[e].removed) continue;
+    s.eqs.push_back(static_cast<int>(e));
+    std::vector<int> row;
+    for (int v : inc[e])
+      if (s.local[at(v)] != none) row.push_back(s.local[at(v)]);
+    rows.push_back(std::move(row));
+  }
+  s.incidence = Incidence::from_lists(static_cast<int>(s.unknowns.size()), rows);
+  return s;
+}
+
+/// Reports unmatched equations (over-determined) and unknowns (under-determined).
+void report_unmatched(const Dae& dae, const System& s, const Matching& m,
+                      frontend::DiagnosticEngine& diags) {
+  std::vector<int> eqs, vars;
+  for (std::size_t i = 0; i < s.eqs.size(); ++i)
+    if (m.unknown_of[i] == none) eqs.push_back(s.eqs[i]);
+  for (std::size_t j = 0; j < s.unknowns.size(); ++j)
+    if (m.equation_of[j] == none) vars.push_back(s.unknowns[j]);
+  report_singular(dae, eqs, vars, diags);
+}
+
+double start_value(const Dae& dae, const DaeVar& v) {
+  if (!v.start.valid()) return 0.0;
+  LeafValues values;
+  for (const auto& p : dae.parameters) values[p.symbol] = p.value;
+  try {
+    return evaluate(dae.arena, std::span(&v.start, 1), values)[0];
+  } catch (const std::invalid_argument&) {
+    return 0.0;
+  }
+}
+
+/// Builds the OdeModel: final symbols with their roles, steps from the BLT.
+class Assembler {
+public:
+  Assembler(Dae& dae, const std::vector<bool>& state, const System& sys, const Matching& m)
+      : dae_(dae), state_(state), sys_(sys), m_(m) {}
+
+  OdeModel run(const std::vector<std::vector<int>>& blocks) {
+    OdeModel out;
+    out.name = dae_.name;
+    out.time = dae_.time;
+    symbols(out);
+    for (const auto& blk : blocks) block(out, blk);
+    finish(out);
+    out.arena = std::move(dae_.arena);
+    return out;
+  }
+
+private:
+  ExprArena& a() { return dae_.arena; }
+
+  void symbols(OdeModel& out) {
+    for (std::size_t v = 0; v < dae_.vars.size(); ++v) {
+      if (!state_[v]) continue;
+      const DaeVar& d = dae_.vars[v];
+      OdeState s;
+      s.info = d.info;
+      // A derivative kept as a state (der(x) of a second-order model with no
+      // velocity variable) must not clash with der(x) of the state x.
+      if (d.integral != none && d.info.name.starts_with("der(")) s.info.name = "$" + s.info.name;
+      const auto k = static_cast<std::int32_t>(out.states.size());
+      s.symbol = a().symbol(s.info.name, SymbolRole::State, k);
+      s.derivative = a().symbol("der(" + s.info.name + ")", SymbolRole::Derivative, k);
+      s.start = d.start.valid() ? d.start : a().constant(0.0);
+      s.fixed = d.fixed;
+      map_[d.symbol] = s.symbol;
+      state_of_[v] = out.states.size();
+      state_vars_.push_back(static_cast<int>(v));
+      out.states.push_back(s);
+    }
+    for (std::size_t i = 0; i < out.states.size(); ++i) derivative_symbol(out, i);
+    for (int v : sys_.unknowns) {
+      if (map_.contains(dae_.vars[at(v)].symbol)) continue;
+      const DaeVar& d = dae_.vars[at(v)];
+      const auto k = static_cast<std::int32_t>(out.algebraics.size());
+      const Expr s = a().symbol(d.info.name, SymbolRole::Algebraic, k);
+      map_[d.symbol] = s;
+      out.algebraics.push_back({d.info, s});
+    }
+  }
+
+  /// The state's derivative variable is either solved for (it becomes the
+  /// Derivative symbol) or is itself a state (then der(x) := that state).
+  void derivative_symbol(OdeModel& out, std::size_t i) {
+    const int x = state_vars_[i];
+    const int d = dae_.vars[at(x)].derivative;
+    const DaeVar& dv = dae_.vars[at(d)];
+    if (state_[at(d)]) {
+      out.steps.emplace_back(Assignment{out.states[i].derivative, map_.at(dv.symbol)});
+      return;
+    }
+    map_[dv.symbol] = out.states[i].derivative;
+    if (!dv.info.name.starts_with("der("))
+      out.eliminated.push_back({dv.info, out.states[i].derivative});
+  }
+
+  void block(OdeModel& out, const std::vector<int>& blk) {
+    std::vector<Expr> residuals, unknowns;
+    std::vector<double> start;
+    for (int i : blk) {
+      residuals.push_back(substitute(a(), dae_.eqs[at(sys_.eqs[at(i)])].residual, map_));
+      const DaeVar& v = dae_.vars[at(sys_.unknowns[at(m_.unknown_of[at(i)])])];
+      unknowns.push_back(map_.at(v.symbol));
+      start.push_back(start_value(dae_, v));
+    }
+    out.steps.push_back(solve_block(a(), residuals, unknowns, start));
+  }
+
+  void finish(OdeModel& out) {
+    for (auto& s : out.states) s.start = substitute(a(), s.start, map_);
+    out.inputs = dae_.inputs;
+    out.parameters = dae_.parameters;
+    out.discrete = dae_.discrete;
+    for (auto y : dae_.outputs) {
+      y.value = substitute(a(), y.value, map_);
+      out.outputs.push_back(y);
+    }
+    for (auto e : dae_.eliminated) {
+      e.value = substitute(a(), e.value, map_);
+      out.eliminated.push_back(e);
+    }
+    for (const DaeWhen& w : dae_.whens) {
+      WhenClause c;
+      c.condition = substitute(a(), w.condition, map_);
+      for (auto s : w.assignments) c.assignments.push_back({s.target, substitute(a(), s.value, map_)});
+      for (const auto& [v, e] : w.reinits)
+        if (state_of_.contains(at(v))) c.reinits.push_back({state_of_.at(at(v)), substitute(a(), e, map_)});
+      out.whens.push_back(std::move(c));
+    }
+    std::vector<Expr> roots;
+    for (const Step& s : out.steps) {
+      if (const auto* as = std::get_if<Assignment>(&s)) roots.push_back(as->value);
+      else for (Expr r : std::get<EquationBlock>(s).residuals) roots.push_back(r);
+    }
+    for (const auto& w : out.whens) roots.push_back(w.condition);
+    collect_zero_crossings(a(), roots, out.zero_crossings);
+  }
+
+  Dae& dae_;
+  const std::vector<bool>& state_;
+  const System& sys_;
+  const Matching& m_;
+  ExprMap map_;  ///< internal symbol → final symbol
+  std::unordered_map<std::size_t, std::size_t> state_of_;  ///< DaeVar → state index
+  std::vector<int> state_vars_;  ///< state index → DaeVar
+};
+
+/// Expression text with the internal name marker removed (for traces).
+std::string text(const ExprArena& a, Expr e) {
+  std::string t = to_modelica(a, e), out;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (t[i] == '\'' && i + 1 < t.size() && t[i + 1] == '?') {  // '?name' → `name`
+      const std::size_t end = t.find('\'', i + 2);
+      out += "`" + t.substr(i + 2, end - i - 2) + "`";
+      i = end;
+      continue;
+    }
+    out += t[i];
+  }
+  return out;
+}
+
+void trace_alias(const Dae& dae, std::string& out) {
+  out += "== alias ==\n";
+  for (const auto& e : dae.eliminated)
+    out += "  " + e.info.name + " = " + text(dae.arena, e.value) + "\n";
+}
+
+void trace_index(const Dae& dae, std::size_t first_new, const std::vector<bool>& state,
+                 std::string& out) {
+  out += "== index reduction ==\n";
+  for (std::size_t e = first_new; e < dae.eqs.size(); ++e)
+    out += fmt::format("  differentiated: 0 = {}\n", text(dae.arena, dae.eqs[e].residual));
+  for (std::size_t v = 0; v < dae.vars.size(); ++v) {
+    const DaeVar& d = dae.vars[v];
+    if (d.eliminated || d.derivative == none) continue;
+    out += fmt::format("  {}: {}\n", state[v] ? "state" : "dummy", d.info.name);
+  }
+}
+
+void trace_blt(const Dae& dae, const System& sys, const Matching& m,
+               const std::vector<std::vector<int>>& blocks, std::string& out) {
+  out += "== blt ==\n";
+  for (const auto& blk : blocks) {
+    out += fmt::format("  block of {}:", blk.size());
+    for (int i : blk)
+      out += " " + dae.vars[at(sys.unknowns[at(m.unknown_of[at(i)])])].info.name;
+    out += "\n";
+    for (int i : blk)
+      out += "    0 = " + text(dae.arena, dae.eqs[at(sys.eqs[at(i)])].residual) + "\n";
+  }
+}
+
+}  // namespace
+
+std::optional<OdeModel> lower(const frontend::flat::Model& flat,
+                              frontend::DiagnosticEngine& diags, const LowerOptions& options,
+                              LowerStats* stats) {
+  std::optional<Dae> dae = build_dae(flat, diags);
+  if (!dae) return std::nullopt;
+  LowerStats st;
+  st.aliases = eliminate_aliases(*dae).eliminated;
+  if (options.trace) trace_alias(*dae, *options.trace);
+  const std::size_t before = dae->eqs.size();
+  if (!pantelides(*dae, diags)) return std::nullopt;
+  st.differentiated = dae->eqs.size() - before;
+  const std::vector<bool> state = select_states(*dae);
+  for (std::size_t v = 0; v < dae->vars.size(); ++v)
+    if (!dae->vars[v].eliminated && dae->vars[v].derivative != none && !state[v])
+      ++st.dummy_derivatives;
+  if (options.trace) trace_index(*dae, before, state, *options.trace);
+  const System sys = make_system(*dae, state);
+  st.equations = sys.eqs.size();
+  const Matching m = maximum_matching(sys.incidence);
+  if (m.size != static_cast<int>(sys.eqs.size()) ||
+      m.size != static_cast<int>(sys.unknowns.size())) {
+    report_unmatched(*dae, sys, m, diags);
+    return std::nullopt;
+  }
+  const auto blocks = blt_blocks(sys.incidence, m);
+  if (options.trace) trace_blt(*dae, sys, m, blocks, *options.trace);
+  if (stats) *stats = st;
+  return Assembler(*dae, state, sys, m).run(blocks);
+}
+
+}  // namespace mo::symbolic

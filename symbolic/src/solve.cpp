@@ -1,0 +1,70 @@
+// BLT blocks to steps, and zero-crossing collection; see solve.hpp.
+#include "solve.hpp"
+
+#include <unordered_set>
+
+#include "mo/symbolic/differentiate.hpp"
+#include "mo/symbolic/substitute.hpp"
+#include "mo/symbolic/traversal.hpp"
+
+namespace mo::symbolic::detail {
+
+namespace {
+
+bool mentions_any(const ExprArena& a, Expr e, const std::unordered_set<Expr, ExprHash>& set) {
+  for (Expr l : leaves(a, std::span(&e, 1)))
+    if (set.contains(l)) return true;
+  return false;
+}
+
+}  // namespace
+
+Step solve_block(ExprArena& a, const std::vector<Expr>& residuals,
+                 const std::vector<Expr>& unknowns, const std::vector<double>& start) {
+  const std::unordered_set<Expr, ExprHash> z(unknowns.begin(), unknowns.end());
+  ExprMap zero;
+  for (Expr u : unknowns) zero[u] = a.constant(0.0);
+  EquationBlock b;
+  b.unknowns = unknowns;
+  b.residuals = residuals;
+  for (std::size_t i = 0; i < residuals.size(); ++i) {
+    const Expr r = residuals[i];
+    const auto used = leaves(a, std::span(&r, 1));
+    for (std::size_t j = 0; j < unknowns.size(); ++j) {
+      if (std::find(used.begin(), used.end(), unknowns[j]) == used.end()) continue;
+      const Expr d = derivative(a, r, unknowns[j]);
+      if (a.is_constant(d, 0.0)) continue;
+      b.linear = b.linear && !mentions_any(a, d, z);
+      b.jacobian.push_back({i, j, d});
+    }
+  }
+  if (b.linear && unknowns.size() == 1 && b.jacobian.size() == 1) {
+    const Expr offset = substitute(a, residuals[0], zero);
+    return Assignment{unknowns[0], a.div(a.neg(offset), b.jacobian[0].value)};
+  }
+  if (b.linear)
+    for (Expr r : residuals) b.offset.push_back(substitute(a, r, zero));
+  else
+    b.start = start;
+  return b;
+}
+
+void collect_zero_crossings(ExprArena& a, const std::vector<Expr>& roots,
+                            std::vector<Expr>& out) {
+  std::unordered_set<Expr, ExprHash> seen, found(out.begin(), out.end());
+  std::vector<Expr> stack(roots.begin(), roots.end());
+  while (!stack.empty()) {
+    const Expr e = stack.back();
+    stack.pop_back();
+    if (!seen.insert(e).second) continue;
+    const ExprKind k = a.kind(e);
+    if (k == ExprKind::NoEvent || a.is_leaf(e) || a.is_constant(e)) continue;
+    if (k == ExprKind::Lt || k == ExprKind::Le || k == ExprKind::Gt || k == ExprKind::Ge) {
+      const Expr g = a.sub(a.operand(e, 0), a.operand(e, 1));
+      if (!a.is_constant(g) && found.insert(g).second) out.push_back(g);
+    }
+    for (std::size_t i = 0; i < arity(k); ++i) stack.push_back(a.operand(e, i));
+  }
+}
+
+}  // namespace mo::symbolic::detail

@@ -1,0 +1,113 @@
+// The generated forward sensitivity system against central finite differences
+// of the base right-hand side, for all five cart-pendulum parameters; start
+// values that depend on parameters; structural sparsity.
+#include <catch2/catch.hpp>
+
+#include <random>
+
+#include "../frontend/compile.hpp"
+#include "mo/symbolic/lower.hpp"
+#include "mo/symbolic/ode_interpreter.hpp"
+#include "mo/symbolic/sensitivities.hpp"
+
+using namespace mo::symbolic;
+
+namespace {
+
+OdeModel lower_text(const std::string& text) {
+  auto c = mo::test::compile_text(text);
+  REQUIRE(c.ok());
+  mo::frontend::SourceManager sm;
+  mo::frontend::DiagnosticEngine diags(sm);
+  auto m = lower(*c.model, diags);
+  REQUIRE(m);
+  return std::move(*m);
+}
+
+OdeModel cart_pendulum() {
+  auto text = mo::test::read_file(std::string(MO_SOURCE_DIR) +
+                                  "/modelica/CartPendulum/CartPendulumODE.mo");
+  auto c = mo::test::compile({{"CartPendulumODE.mo", text}}, "CartPendulumODE");
+  REQUIRE(c.ok());
+  mo::frontend::SourceManager sm;
+  mo::frontend::DiagnosticEngine diags(sm);
+  auto m = lower(*c.model, diags);
+  REQUIRE(m);
+  return std::move(*m);
+}
+
+std::vector<double> defaults(const OdeModel& m) {
+  std::vector<double> p;
+  for (const auto& par : m.parameters) p.push_back(par.value);
+  return p;
+}
+
+}  // namespace
+
+TEST_CASE("cart-pendulum sensitivity right-hand sides equal finite differences (5 parameters)") {
+  OdeModel base = cart_pendulum();
+  OdeModel aug = cart_pendulum();
+  std::vector<std::size_t> params;
+  for (const char* name : {"m1", "d1", "m2", "d2", "l"}) params.push_back(*aug.parameter_index(name));
+  add_sensitivities(aug, params);
+  const std::size_t nx = base.states.size();
+  REQUIRE(aug.num_base_states() == nx);
+  OdeInterpreter fb(base), fa(aug);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> U(-2, 2);
+  const std::vector<double> p0 = defaults(base);
+  for (int trial = 0; trial < 10; ++trial) {
+    std::vector<double> x(aug.states.size()), u{U(rng)};
+    for (double& v : x) v = U(rng);
+    const auto xdot = fa.rhs(0.0, x, u, p0);
+    for (std::size_t si = nx; si < aug.states.size(); ++si) {
+      const auto& sens = *aug.states[si].sensitivity;
+      // d/de f(x + e*S_k, p + e*e_k), S_k the sensitivity states of parameter k.
+      auto shifted = [&](double e) {
+        std::vector<double> xs(x.begin(), x.begin() + static_cast<long>(nx)), p = p0;
+        for (std::size_t sj = nx; sj < aug.states.size(); ++sj)
+          if (aug.states[sj].sensitivity->parameter == sens.parameter)
+            xs[aug.states[sj].sensitivity->state] += e * x[sj];
+        p[sens.parameter] += e;
+        return fb.rhs(0.0, xs, u, p)[sens.state];
+      };
+      const double h = 1e-5;
+      const double fd = (shifted(h) - shifted(-h)) / (2 * h);
+      INFO(aug.states[si].info.name);
+      CHECK(xdot[si] == Approx(fd).epsilon(1e-7).margin(1e-7));
+    }
+  }
+  // Outputs y = (x, phi): their sensitivities are the state sensitivities.
+  CHECK(aug.outputs.size() == 2 + 2 * 5);
+}
+
+TEST_CASE("sensitivities to a parameter that sets a start value start at dx0/dp") {
+  OdeModel m = lower_text(R"(
+model Decay
+  parameter Real x0 = 2;
+  parameter Real k = 0.5;
+  Real x(start = x0, fixed = true);
+  Real y(start = 1, fixed = true);
+equation
+  der(x) = -k*x;
+  der(y) = -y;
+end Decay;)");
+  add_sensitivities(m, std::vector<std::size_t>{*m.parameter_index("x0"), *m.parameter_index("k")});
+  // Only x depends on x0 and k: y gets no sensitivity states (sparsity).
+  REQUIRE(m.states.size() == 4);
+  CHECK(m.states[2].info.name == "d(x)/d(x0)");
+  CHECK(m.states[3].info.name == "d(x)/d(k)");
+  OdeInterpreter f(m);
+  const auto x0 = f.initial_state(defaults(m));
+  CHECK(x0[2] == 1.0);
+  CHECK(x0[3] == 0.0);
+  const auto xdot = f.rhs(0, std::vector<double>{2, 1, 1, 0.3}, {}, defaults(m));
+  CHECK(xdot[2] == Approx(-0.5));           // -k * S_x0
+  CHECK(xdot[3] == Approx(-2 - 0.5 * 0.3));  // -x - k * S_k
+}
+
+TEST_CASE("add_sensitivities rejects bad parameter lists") {
+  OdeModel m = cart_pendulum();
+  CHECK_THROWS_AS(add_sensitivities(m, std::vector<std::size_t>{99}), std::invalid_argument);
+  CHECK_THROWS_AS(add_sensitivities(m, std::vector<std::size_t>{0, 0}), std::invalid_argument);
+}
