@@ -16,3 +16,16 @@ for kind in msd rc; do
       sort -k5 -g | awk -v m=$(( (runs + 1) / 2 )) 'NR == m { printf "| %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6 }'
   done
 done
+
+lower=$build/bench/lower_scale
+echo
+echo "| chain | N | sensitivities | flat equations | states | flatten s | lower s | sensitivities s | peak RSS MB |"
+echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|"
+for kind in msd rc; do
+  for n in 100 1000 10000; do
+    for k in 0 1 5; do
+      for r in $(seq "$runs"); do "$lower" "$kind" "$n" "$k"; done |
+        sort -k7 -g | awk -v m=$(( (runs + 1) / 2 )) 'NR == m { printf "| %s | %s | %s | %s | %s | %s | %s | %s | %s |\n", $1, $2, $3, $4, $5, $6, $7, $8, $9 }'
+    done
+  done
+done

@@ -76,10 +76,12 @@ public:
     for (bool changed = true; changed && stats.passes < 50;) {
       ++stats.passes;
       changed = false;
-      for (std::size_t i = 0; i < dae_.eqs.size(); ++i) {
-        DaeEq& eq = dae_.eqs[i];
+      std::vector<Expr*> residuals;
+      for (DaeEq& eq : dae_.eqs)
+        if (!eq.removed) residuals.push_back(&eq.residual);
+      substitute_in_place(a_, residuals, all_);
+      for (DaeEq& eq : dae_.eqs) {
         if (eq.removed) continue;
-        if (!carry_.empty()) eq.residual = substitute(a_, eq.residual, carry_);
         if (try_eliminate(eq)) {
           eq.removed = true;
           changed = true;
@@ -198,23 +200,31 @@ private:
   /// until every value is over remaining variables; the next pass substitutes
   /// the resolved map into the residuals.
   void compose() {
-    for (auto& [k, v] : all_)
-      for (int i = 0; i < 50 && mentions_eliminated(v); ++i) v = substitute(a_, v, all_);
-    carry_ = all_;
+    for (int round = 0; round < 64; ++round) {
+      std::vector<Expr*> values;
+      for (auto& [k, v] : all_)
+        if (mentions_eliminated(v)) values.push_back(&v);
+      if (values.empty()) return;
+      // Jacobi-style: each round at least halves the longest alias chain.
+      const ExprMap snapshot = all_;
+      substitute_in_place(a_, values, snapshot);
+    }
   }
 
   void finish() {
     for (int v : order_)
       if (!var(v).info.name.starts_with("der("))
         dae_.eliminated.push_back({var(v).info, all_.at(var(v).symbol)});
-    for (auto& y : dae_.outputs) y.value = substitute(a_, y.value, all_);
+    std::vector<Expr*> targets;
+    for (auto& y : dae_.outputs) targets.push_back(&y.value);
     for (auto& w : dae_.whens) {
-      w.condition = substitute(a_, w.condition, all_);
-      for (auto& s : w.assignments) s.value = substitute(a_, s.value, all_);
-      for (auto& [x, e] : w.reinits) e = substitute(a_, e, all_);
+      targets.push_back(&w.condition);
+      for (auto& s : w.assignments) targets.push_back(&s.value);
+      for (auto& [x, e] : w.reinits) targets.push_back(&e);
     }
     for (auto& d : dae_.vars)
-      if (!d.eliminated && d.start.valid()) d.start = substitute(a_, d.start, all_);
+      if (!d.eliminated && d.start.valid()) targets.push_back(&d.start);
+    substitute_in_place(a_, targets, all_);
   }
 
   /// True if `e` still mentions an eliminated variable.
@@ -226,7 +236,6 @@ private:
 
   Dae& dae_;
   ExprArena& a_;
-  ExprMap carry_;    ///< resolved eliminations to substitute in the next pass
   ExprMap all_;      ///< every eliminated variable → its value
   std::vector<int> order_;
   std::size_t eliminated_count_ = 0;

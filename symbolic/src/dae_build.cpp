@@ -61,6 +61,11 @@ public:
   std::optional<Dae> run() {
     mark_discrete();
     for (std::size_t i = 0; i < f_.variables.size(); ++i) declare(static_cast<int>(i));
+    for (std::size_t k = 0; k < dae_.parameters.size(); ++k) {
+      param_values_[dae_.parameters[k].symbol] = dae_.parameters[k].value;
+      info_of_[dae_.parameters[k].symbol] = &dae_.parameters[k].info;
+    }
+    for (auto& d : dae_.discrete) info_of_[d.symbol] = &d.info;
     for (std::size_t i = 0; i < f_.variables.size(); ++i) attributes(static_cast<int>(i));
     for (const ast::Equation& eq : f_.equations) equation(eq);
     outputs();
@@ -157,10 +162,9 @@ private:
 
   /// Evaluates an attribute expression at the default parameter values.
   std::optional<double> value_of(Expr e) {
-    LeafValues values;
-    for (const auto& p : dae_.parameters) values[p.symbol] = p.value;
+    if (dae_.arena.is_constant(e)) return dae_.arena.constant_value(e);
     try {
-      return evaluate(dae_.arena, std::span(&e, 1), values)[0];
+      return evaluate(dae_.arena, std::span(&e, 1), param_values_)[0];
     } catch (const std::invalid_argument&) {
       return std::nullopt;
     }
@@ -176,14 +180,12 @@ private:
     };
     VariableInfo* info = nullptr;
     if (s.kind == Slot::Var) info = &dae_.vars[static_cast<std::size_t>(s.var)].info;
-    for (auto& p : dae_.parameters)
-      if (p.symbol == s.value && s.kind == Slot::Value) info = &p.info;
-    for (auto& d : dae_.discrete)
-      if (d.symbol == s.value && s.kind == Slot::Value) {
-        info = &d.info;
-        d.start = number(at.start, 0.0);
-      }
+    if (s.kind == Slot::Value && info_of_.contains(s.value)) info = info_of_.at(s.value);
     if (!info) return;
+    if (s.kind == Slot::Value && dae_.arena.kind(s.value) == ExprKind::Symbol &&
+        dae_.arena.symbol_info(s.value).role == SymbolRole::Discrete)
+      dae_.discrete[static_cast<std::size_t>(dae_.arena.symbol_info(s.value).index)].start =
+          number(at.start, 0.0);
     info->nominal = std::abs(number(at.nominal, 1.0));
     if (info->nominal == 0.0) info->nominal = 1.0;
     info->min = number(at.min, info->min);
@@ -207,6 +209,8 @@ private:
   std::unordered_set<int> discrete_;
   std::unordered_set<int> in_progress_;
   std::optional<ExprConverter> conv_;
+  LeafValues param_values_;  ///< default value of every parameter symbol
+  std::unordered_map<Expr, VariableInfo*, ExprHash> info_of_;  ///< parameter/discrete info
   bool ok_ = true;
 };
 

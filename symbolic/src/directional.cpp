@@ -39,7 +39,7 @@ private:
   }
 
   void assignment(const Assignment& as) {
-    const Expr d = forward_derivative(a_, as.value, out_.derivative);
+    const Expr d = forward_derivative(a_, std::span(&as.value, 1), out_.derivative, false)[0];
     if (a_.is_constant(d, 0.0)) return;
     if (a_.is_constant(d) || a_.is_leaf(d)) {
       out_.derivative[as.target] = d;
@@ -52,7 +52,7 @@ private:
 
   void block(const EquationBlock& b) {
     // c = Σ ∂r/∂w · dw with the block's own unknowns held fixed (dz = 0).
-    const std::vector<Expr> c = forward_derivative(a_, b.residuals, out_.derivative);
+    const std::vector<Expr> c = forward_derivative(a_, b.residuals, out_.derivative, false);
     bool all_zero = true;
     for (Expr e : c) all_zero = all_zero && a_.is_constant(e, 0.0);
     if (all_zero) return;  // dz = 0: J is nonsingular at a solution
@@ -91,7 +91,7 @@ Directional differentiate_steps(OdeModel& model, const ExprMap& seeds,
 }
 
 Expr derivative_along(OdeModel& model, const Directional& d, Expr e) {
-  return forward_derivative(model.arena, e, d.derivative);
+  return forward_derivative(model.arena, std::span(&e, 1), d.derivative, false)[0];
 }
 
 }  // namespace mo::symbolic

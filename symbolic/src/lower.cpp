@@ -62,15 +62,24 @@ void report_unmatched(const Dae& dae, const System& s, const Matching& m,
   report_singular(dae, eqs, vars, diags);
 }
 
-double start_value(const Dae& dae, const DaeVar& v) {
-  if (!v.start.valid()) return 0.0;
+/// Every variable's start value at the default parameters (0 where unset or
+/// not computable), evaluated in one pass.
+std::vector<double> start_values(const Dae& dae) {
   LeafValues values;
   for (const auto& p : dae.parameters) values[p.symbol] = p.value;
-  try {
-    return evaluate(dae.arena, std::span(&v.start, 1), values)[0];
-  } catch (const std::invalid_argument&) {
-    return 0.0;
+  std::vector<double> out(dae.vars.size(), 0.0);
+  for (std::size_t v = 0; v < dae.vars.size(); ++v) {
+    const Expr s = dae.vars[v].start;
+    if (!s.valid() || dae.arena.is_constant(s)) {
+      out[v] = s.valid() ? dae.arena.constant_value(s) : 0.0;
+      continue;
+    }
+    try {
+      out[v] = evaluate(dae.arena, std::span(&s, 1), values)[0];
+    } catch (const std::invalid_argument&) {
+    }
   }
+  return out;
 }
 
 /// Builds the OdeModel: final symbols with their roles, steps from the BLT.
@@ -84,6 +93,10 @@ public:
     out.name = dae_.name;
     out.time = dae_.time;
     symbols(out);
+    std::vector<Expr*> residuals;
+    for (int e : sys_.eqs) residuals.push_back(&dae_.eqs[at(e)].residual);
+    substitute_in_place(a(), residuals, map_);
+    start_values_ = start_values(dae_);
     for (const auto& blk : blocks) block(out, blk);
     finish(out);
     out.arena = std::move(dae_.arena);
@@ -142,35 +155,36 @@ private:
     std::vector<Expr> residuals, unknowns;
     std::vector<double> start;
     for (int i : blk) {
-      residuals.push_back(substitute(a(), dae_.eqs[at(sys_.eqs[at(i)])].residual, map_));
-      const DaeVar& v = dae_.vars[at(sys_.unknowns[at(m_.unknown_of[at(i)])])];
-      unknowns.push_back(map_.at(v.symbol));
-      start.push_back(start_value(dae_, v));
+      residuals.push_back(dae_.eqs[at(sys_.eqs[at(i)])].residual);
+      const int var = sys_.unknowns[at(m_.unknown_of[at(i)])];
+      unknowns.push_back(map_.at(dae_.vars[at(var)].symbol));
+      start.push_back(start_values_[at(var)]);
     }
     out.steps.push_back(solve_block(a(), residuals, unknowns, start));
   }
 
   void finish(OdeModel& out) {
-    for (auto& s : out.states) s.start = substitute(a(), s.start, map_);
     out.inputs = dae_.inputs;
     out.parameters = dae_.parameters;
     out.discrete = dae_.discrete;
-    for (auto y : dae_.outputs) {
-      y.value = substitute(a(), y.value, map_);
-      out.outputs.push_back(y);
-    }
-    for (auto e : dae_.eliminated) {
-      e.value = substitute(a(), e.value, map_);
-      out.eliminated.push_back(e);
-    }
+    out.outputs.insert(out.outputs.end(), dae_.outputs.begin(), dae_.outputs.end());
+    out.eliminated.insert(out.eliminated.end(), dae_.eliminated.begin(), dae_.eliminated.end());
     for (const DaeWhen& w : dae_.whens) {
-      WhenClause c;
-      c.condition = substitute(a(), w.condition, map_);
-      for (auto s : w.assignments) c.assignments.push_back({s.target, substitute(a(), s.value, map_)});
+      WhenClause c{w.condition, w.assignments, {}};
       for (const auto& [v, e] : w.reinits)
-        if (state_of_.contains(at(v))) c.reinits.push_back({state_of_.at(at(v)), substitute(a(), e, map_)});
+        if (state_of_.contains(at(v))) c.reinits.push_back({state_of_.at(at(v)), e});
       out.whens.push_back(std::move(c));
     }
+    std::vector<Expr*> targets;
+    for (auto& s : out.states) targets.push_back(&s.start);
+    for (auto& y : out.outputs) targets.push_back(&y.value);
+    for (auto& e : out.eliminated) targets.push_back(&e.value);
+    for (auto& w : out.whens) {
+      targets.push_back(&w.condition);
+      for (auto& s : w.assignments) targets.push_back(&s.value);
+      for (auto& r : w.reinits) targets.push_back(&r.value);
+    }
+    substitute_in_place(a(), targets, map_);
     std::vector<Expr> roots;
     for (const Step& s : out.steps) {
       if (const auto* as = std::get_if<Assignment>(&s)) roots.push_back(as->value);
@@ -187,6 +201,7 @@ private:
   ExprMap map_;  ///< internal symbol → final symbol
   std::unordered_map<std::size_t, std::size_t> state_of_;  ///< DaeVar → state index
   std::vector<int> state_vars_;  ///< state index → DaeVar
+  std::vector<double> start_values_;  ///< per DaeVar
 };
 
 /// Expression text with the internal name marker removed (for traces).

@@ -12,7 +12,6 @@ namespace mo::symbolic {
 
 namespace {
 
-using LeafSet = std::unordered_set<Expr, ExprHash>;
 
 /// Targets and used leaves of one step, for dependency propagation.
 struct StepLeaves {
@@ -38,26 +37,51 @@ std::vector<StepLeaves> step_leaves(const OdeModel& m) {
   return out;
 }
 
-/// The base states whose value depends on parameter symbol `p`.
+/// Which steps read each leaf, and which state a derivative symbol belongs to.
+struct Users {
+  std::unordered_map<Expr, std::vector<std::size_t>, ExprHash> steps_using;
+  std::unordered_map<Expr, std::size_t, ExprHash> state_of_derivative;
+};
+
+Users users(const OdeModel& m, const std::vector<StepLeaves>& steps, std::size_t nx) {
+  Users u;
+  for (std::size_t s = 0; s < steps.size(); ++s)
+    for (Expr l : steps[s].used) u.steps_using[l].push_back(s);
+  for (std::size_t i = 0; i < nx; ++i) u.state_of_derivative[m.states[i].derivative] = i;
+  return u;
+}
+
+/// The base states whose value depends on parameter symbol `p`: a worklist
+/// over leaves (parameter → steps reading it → their targets → states whose
+/// derivative they are → steps reading those states ...), linear in the model.
 std::vector<bool> influenced_states(const OdeModel& m, const std::vector<StepLeaves>& steps,
-                                    Expr p, std::size_t nx) {
-  std::vector<bool> hit(nx, false);
+                                    const Users& u, Expr p, std::size_t nx) {
+  std::vector<bool> hit(nx, false), step_done(steps.size(), false);
+  std::vector<Expr> work{p};
   for (std::size_t i = 0; i < nx; ++i) {
-    const auto start_leaves = leaves(m.arena, std::span(&m.states[i].start, 1));
-    for (Expr l : start_leaves) hit[i] = hit[i] || l == p;
+    for (Expr l : leaves(m.arena, std::span(&m.states[i].start, 1)))
+      if (l == p && !hit[i]) {
+        hit[i] = true;
+        work.push_back(m.states[i].symbol);
+      }
   }
-  for (bool changed = true; changed;) {
-    LeafSet dep{p};
-    for (std::size_t i = 0; i < nx; ++i)
-      if (hit[i]) dep.insert(m.states[i].symbol);
-    for (const StepLeaves& s : steps) {
-      bool any = false;
-      for (Expr l : s.used) any = any || dep.contains(l);
-      if (any) dep.insert(s.targets.begin(), s.targets.end());
+  while (!work.empty()) {
+    const Expr leaf = work.back();
+    work.pop_back();
+    const auto it = u.steps_using.find(leaf);
+    if (it == u.steps_using.end()) continue;
+    for (std::size_t s : it->second) {
+      if (step_done[s]) continue;
+      step_done[s] = true;
+      for (Expr t : steps[s].targets) {
+        work.push_back(t);
+        const auto st = u.state_of_derivative.find(t);
+        if (st != u.state_of_derivative.end() && !hit[st->second]) {
+          hit[st->second] = true;
+          work.push_back(m.states[st->second].symbol);
+        }
+      }
     }
-    changed = false;
-    for (std::size_t i = 0; i < nx; ++i)
-      if (!hit[i] && dep.contains(m.states[i].derivative)) hit[i] = changed = true;
   }
   return hit;
 }
@@ -70,10 +94,10 @@ struct Additions {
   std::vector<OdeOutput> outputs;
 };
 
-void add_for_parameter(OdeModel& m, const std::vector<StepLeaves>& steps, std::size_t k,
-                       std::size_t nx, std::size_t ny, Additions& add) {
+void add_for_parameter(OdeModel& m, const std::vector<StepLeaves>& steps, const Users& u,
+                       std::size_t k, std::size_t nx, std::size_t ny, Additions& add) {
   const OdeParameter par = m.parameters[k];
-  const std::vector<bool> hit = influenced_states(m, steps, par.symbol, nx);
+  const std::vector<bool> hit = influenced_states(m, steps, u, par.symbol, nx);
   ExprArena& a = m.arena;
   ExprMap seeds{{par.symbol, a.constant(1.0)}};
   std::vector<std::size_t> new_states;
@@ -132,8 +156,9 @@ void add_sensitivities(OdeModel& model, std::span<const std::size_t> parameters)
   }
   const std::size_t nx = model.states.size(), ny = model.outputs.size();
   const std::vector<StepLeaves> steps = step_leaves(model);
+  const Users u = users(model, steps, nx);
   Additions add;
-  for (std::size_t k : parameters) add_for_parameter(model, steps, k, nx, ny, add);
+  for (std::size_t k : parameters) add_for_parameter(model, steps, u, k, nx, ny, add);
   auto append = [](auto& to, auto& from) { to.insert(to.end(), from.begin(), from.end()); };
   append(model.steps, add.steps);
   append(model.algebraics, add.algebraics);

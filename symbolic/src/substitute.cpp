@@ -50,6 +50,16 @@ std::vector<Expr> substitute(ExprArena& arena, std::span<const Expr> exprs,
   return result;
 }
 
+void substitute_in_place(ExprArena& arena, std::span<Expr* const> targets,
+                         const ExprMap& replacements) {
+  if (targets.empty() || replacements.empty()) return;
+  std::vector<Expr> exprs;
+  exprs.reserve(targets.size());
+  for (Expr* t : targets) exprs.push_back(*t);
+  const std::vector<Expr> out = substitute(arena, exprs, replacements);
+  for (std::size_t i = 0; i < targets.size(); ++i) *targets[i] = out[i];
+}
+
 Expr substitute(ExprArena& arena, Expr e, const ExprMap& replacements) {
   return substitute(arena, std::span<const Expr>(&e, 1), replacements).front();
 }

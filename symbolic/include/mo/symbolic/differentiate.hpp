@@ -21,8 +21,10 @@ namespace mo::symbolic {
 /// Forward mode: the directional derivative of each output, given the
 /// derivative (seed) of each leaf; unseeded leaves have derivative 0.
 /// Throws std::invalid_argument if a seed key is not a leaf.
+/// `check_seeds = false` skips the O(|seeds|) key check: for callers that
+/// validated a large seed map once and differentiate many times with it.
 std::vector<Expr> forward_derivative(ExprArena& arena, std::span<const Expr> outputs,
-                                     const ExprMap& seeds);
+                                     const ExprMap& seeds, bool check_seeds = true);
 
 /// Forward mode for one output; see the span overload.
 Expr forward_derivative(ExprArena& arena, Expr output, const ExprMap& seeds);

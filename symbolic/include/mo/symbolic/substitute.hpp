@@ -18,6 +18,12 @@ namespace mo::symbolic {
 std::vector<Expr> substitute(ExprArena& arena, std::span<const Expr> exprs,
                              const ExprMap& replacements);
 
+/// Rewrites every *targets[i] in place with one call of the span overload
+/// (keys are validated once, shared nodes rebuilt once): the way to apply a
+/// large map to many expressions in linear time.
+void substitute_in_place(ExprArena& arena, std::span<Expr* const> targets,
+                         const ExprMap& replacements);
+
 /// One expression; see the span overload.
 Expr substitute(ExprArena& arena, Expr e, const ExprMap& replacements);
 
