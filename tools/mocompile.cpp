@@ -3,7 +3,10 @@
 // 2 bad command line.
 #include "mo/frontend/flatten.hpp"
 #include "mo/frontend/parser.hpp"
+#include "mo/codegen/cpp_text.hpp"
+#include "mo/codegen/generate.hpp"
 #include "mo/runtime/result.hpp"
+#include "pipeline.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -24,26 +27,33 @@ struct Options {
   std::string output;
   bool no_balance_check = false;
   unsigned max_errors = 50;
+  std::string cpp_name = "mo_model";       // --emit cpp: namespace and file stem
+  std::vector<std::string> sensitivities;  // --emit cpp: parameters
 };
 
-/// The .mo files of a library argument: the file itself, or every .mo file
-/// under a directory (package.mo files first, so `within` packages exist).
-std::vector<std::string> library_files(const std::string &arg) {
-  std::vector<std::string> files;
-  std::error_code ec;
-  if (fs::is_directory(arg, ec)) {
-    for (auto &entry : fs::recursive_directory_iterator(arg, ec))
-      if (entry.is_regular_file() && entry.path().extension() == ".mo")
-        files.push_back(entry.path().string());
-    std::sort(files.begin(), files.end(), [](const std::string &a, const std::string &b) {
-      bool pa = fs::path(a).filename() == "package.mo", pb = fs::path(b).filename() == "package.mo";
-      auto da = std::count(a.begin(), a.end(), '/'), db = std::count(b.begin(), b.end(), '/');
-      return std::tie(da, pb, a) < std::tie(db, pa, b);
-    });
-  } else {
-    files.push_back(arg);
+using mo::tools::library_files;
+
+/// --emit cpp: lower, optionally add sensitivities, generate C++ and write
+/// the files into the directory opt.output (each file atomically).
+int emit_cpp(const flat::Model &model, DiagnosticEngine &diags, const Options &opt) {
+  auto ode = mo::tools::lower_model(model, diags);
+  if (!ode) {
+    diags.print(std::cerr);
+    return 1;
   }
-  return files;
+  if (auto error = mo::tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty()) {
+    std::cerr << "mocompile: error: " << error << "\n";
+    return 1;
+  }
+  mo::codegen::CodegenOptions co;
+  co.name = opt.cpp_name;
+  const auto sources = mo::codegen::generate_cpp(*ode, co);
+  diags.print(std::cerr);  // warnings
+  fs::create_directories(opt.output);
+  for (const auto &file : sources.files)
+    mo::runtime::write_file_atomic((fs::path(opt.output) / file.path).string(),
+                                   [&](std::ostream &os) { os << file.text; });
+  return 0;
 }
 
 int run(const Options &opt) {
@@ -75,6 +85,18 @@ int run(const Options &opt) {
     if (!model) {
       diags.print(std::cerr);
       return 1;
+    }
+    if (opt.emit == "cpp") {
+      if (opt.output.empty() || opt.output == "-") {
+        std::cerr << "mocompile: error: --emit cpp needs -o DIR\n";
+        return 2;
+      }
+      try {
+        return emit_cpp(*model, diags, opt);
+      } catch (const std::exception &e) {
+        std::cerr << "mocompile: error: " << e.what() << "\n";
+        return 1;
+      }
     }
     text = model->print();
   }
@@ -108,10 +130,20 @@ int main(int argc, char **argv) {
                  "Library file or directory of .mo files to load before FILE (repeatable)")
       ->check(CLI::ExistingPath);
   app.add_option("--emit", opt.emit,
-                 "What to print: 'ast' (the parsed file) or 'flat' (the flattened model, flat Modelica)")
-      ->check(CLI::IsMember({"ast", "flat"}))
+                 "What to print: 'ast' (the parsed file), 'flat' (the flattened model, flat Modelica) "
+                 "or 'cpp' (C++ sources of the model, into the directory -o DIR)")
+      ->check(CLI::IsMember({"ast", "flat", "cpp"}))
       ->capture_default_str();
   app.add_option("-o,--output", opt.output, "Write the result to this file (atomically) instead of stdout");
+  app.add_option("--cpp-name", opt.cpp_name,
+                 "--emit cpp: C++ identifier used as namespace, file stem and factory prefix")
+      ->check([](const std::string &s) {
+        return mo::codegen::is_cpp_identifier(s) ? std::string() : "not a usable C++ identifier: " + s;
+      })
+      ->capture_default_str();
+  app.add_option("--sensitivities", opt.sensitivities,
+                 "--emit cpp: append forward sensitivities for these parameters (comma-separated)")
+      ->delimiter(',');
   app.add_flag("--no-balance-check", opt.no_balance_check,
                "Do not check that the model has as many equations as unknowns");
   app.add_option("--max-errors", opt.max_errors, "Stop listing errors after this many")->capture_default_str();
