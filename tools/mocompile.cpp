@@ -29,6 +29,7 @@ struct Options {
   unsigned max_errors = 50;
   std::string cpp_name = "mo_model";       // --emit cpp: namespace and file stem
   std::vector<std::string> sensitivities;  // --emit cpp: parameters
+  std::size_t cpp_files = 0;               // --emit cpp: exact number of part files (0: as needed)
 };
 
 using mo::tools::library_files;
@@ -47,6 +48,7 @@ int emit_cpp(const flat::Model &model, DiagnosticEngine &diags, const Options &o
   }
   mo::codegen::CodegenOptions co;
   co.name = opt.cpp_name;
+  co.part_files = opt.cpp_files;
   const auto sources = mo::codegen::generate_cpp(*ode, co);
   diags.print(std::cerr);  // warnings
   fs::create_directories(opt.output);
@@ -141,6 +143,8 @@ int main(int argc, char **argv) {
         return mo::codegen::is_cpp_identifier(s) ? std::string() : "not a usable C++ identifier: " + s;
       })
       ->capture_default_str();
+  app.add_option("--cpp-files", opt.cpp_files,
+                 "--emit cpp: write exactly N <name>_part<K>.cpp files (for build systems)");
   app.add_option("--sensitivities", opt.sensitivities,
                  "--emit cpp: append forward sensitivities for these parameters (comma-separated)")
       ->delimiter(',');

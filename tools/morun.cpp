@@ -37,7 +37,7 @@ struct Options {
   std::vector<std::string> sensitivities;
   std::string output = "results";
   bool plot = false;
-  unsigned jobs = 1;
+  unsigned jobs = 2;
   double rtol = 1e-6, atol = 1e-8;
 };
 

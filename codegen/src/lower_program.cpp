@@ -242,8 +242,9 @@ private:
         continue;
       }
       const auto& blk = std::get<symbolic::EquationBlock>(step);
-      b.block(blk, "derivative linear block " + std::to_string(++number) + " for " +
-                       names_of(arena(), blk.unknowns), s);
+      // Named by number only: the unknowns' names are generated, and the
+      // text must not change between generations of the same model.
+      b.block(blk, "Jacobian-vector product block " + std::to_string(++number), s);
     }
     auto row_slots = [&](auto& bld, int section, const std::vector<Expr>& rows) {
       std::vector<Slot> out;

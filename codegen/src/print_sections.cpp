@@ -1,6 +1,8 @@
 // Sections → part functions, block tables and section runners; see printer.hpp.
 #include <fmt/format.h>
 
+#include <stdexcept>
+
 #include "mo/codegen/cpp_text.hpp"
 #include "printer.hpp"
 
@@ -135,7 +137,20 @@ private:
 
 PrintedSections print_sections(const symbolic::ExprArena& arena, const Program& program,
                                const CodegenOptions& options) {
-  return SectionPrinter(arena, program, options).run();
+  if (options.part_files == 0) return SectionPrinter(arena, program, options).run();
+  std::size_t total = 0;
+  for (const auto& s : program.sections)
+    for (const auto& ins : s.code)
+      total += ins.op == Instruction::Op::Node || ins.op == Instruction::Op::Copy ? 1 : 0;
+  // A file may overshoot its share by one function: leave that much room.
+  CodegenOptions even = options;
+  even.instructions_per_file =
+      (total + options.part_files - 1) / options.part_files + options.instructions_per_function;
+  PrintedSections out = SectionPrinter(arena, program, even).run();
+  if (out.parts.size() > options.part_files)
+    throw std::logic_error("internal error: code generation: more part files than requested");
+  out.parts.resize(options.part_files);
+  return out;
 }
 
 }  // namespace mo::codegen::detail

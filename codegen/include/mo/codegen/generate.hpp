@@ -25,8 +25,12 @@ struct CodegenOptions {
   /// A C++ identifier: the namespace, the file names' stem and the factory
   /// symbol's prefix. Must satisfy is_cpp_identifier().
   std::string name = "mo_model";
-  std::size_t instructions_per_function = 1000;  ///< straight-line code per function
-  std::size_t instructions_per_file = 20000;     ///< per translation unit (at least one function)
+  std::size_t instructions_per_function = 250;   ///< straight-line code per function
+  std::size_t instructions_per_file = 10000;     ///< per translation unit (at least one function)
+  /// If nonzero: exactly this many <name>_part<K>.cpp files (some may hold no
+  /// code), instructions spread evenly; for build systems that must know the
+  /// outputs in advance. Overrides instructions_per_file.
+  std::size_t part_files = 0;
 };
 
 /// One generated file: a path relative to the output directory and its text.
