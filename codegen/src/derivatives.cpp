@@ -65,8 +65,9 @@ Derivatives build_derivatives(symbolic::OdeModel& m) {
   }
   for (const auto& y : m.outputs)
     d.h_rows.push_back(symbolic::derivative_along(m, d.directional, y.value));
-  for (const auto& x : m.states)
-    d.x0_rows.push_back(symbolic::forward_derivative(a, x.start, parameter_seeds));
+  std::vector<Expr> starts;  // one call: each call checks every seed
+  for (const auto& x : m.states) starts.push_back(x.start);
+  d.x0_rows = symbolic::forward_derivative(a, starts, parameter_seeds);
   return d;
 }
 
