@@ -3,9 +3,11 @@
 // 2 bad command line.
 #include "mo/frontend/flatten.hpp"
 #include "mo/frontend/parser.hpp"
+#include "mo/codegen/cpp_text.hpp"
+#include "mo/codegen/generate.hpp"
 #include "mo/runtime/result.hpp"
 #include "mo/symbolic/lower.hpp"
-#include "mo/symbolic/sensitivities.hpp"
+#include "pipeline.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -26,54 +28,44 @@ struct Options {
   std::string output;
   bool no_balance_check = false;
   unsigned max_errors = 50;
-  std::vector<std::string> sensitivities;
+  std::string cpp_name = "mo_model";       // --emit cpp: namespace and file stem
+  std::vector<std::string> sensitivities;  // --emit ode|trace|cpp: parameters
+  std::size_t cpp_files = 0;               // --emit cpp: exact number of part files (0: as needed)
 };
 
-/// The .mo files of a library argument: the file itself, or every .mo file
-/// under a directory (package.mo files first, so `within` packages exist).
-std::vector<std::string> library_files(const std::string &arg) {
-  std::vector<std::string> files;
-  std::error_code ec;
-  if (fs::is_directory(arg, ec)) {
-    for (auto &entry : fs::recursive_directory_iterator(arg, ec))
-      if (entry.is_regular_file() && entry.path().extension() == ".mo")
-        files.push_back(entry.path().string());
-    std::sort(files.begin(), files.end(), [](const std::string &a, const std::string &b) {
-      bool pa = fs::path(a).filename() == "package.mo", pb = fs::path(b).filename() == "package.mo";
-      auto da = std::count(a.begin(), a.end(), '/'), db = std::count(b.begin(), b.end(), '/');
-      return std::tie(da, pb, a) < std::tie(db, pa, b);
-    });
-  } else {
-    files.push_back(arg);
-  }
-  return files;
-}
+using mo::tools::library_files;
 
-/// Lowers a flat model and appends the requested sensitivities; nullopt after
-/// reporting errors (unknown parameter names included) to `diags`.
-std::optional<mo::symbolic::OdeModel> lower_model(const flat::Model &model, const Options &opt,
-                                                  DiagnosticEngine &diags) {
-  mo::symbolic::LowerOptions lo;
+/// Lowers, printing the stage trace for --emit trace, and appends the
+/// requested sensitivities; nullopt after printing the errors.
+std::optional<mo::symbolic::OdeModel> lowered(const flat::Model &model, DiagnosticEngine &diags,
+                                              const Options &opt) {
   std::string trace;
-  if (opt.emit == "trace") lo.trace = &trace;
-  auto ode = mo::symbolic::lower(model, diags, lo);
-  if (lo.trace) std::cout << trace;
-  if (!ode) return std::nullopt;
-  std::vector<std::size_t> params;
-  for (const auto &name : opt.sensitivities) {
-    if (auto k = ode->parameter_index(name)) {
-      params.push_back(*k);
-      continue;
-    }
-    std::string known;
-    for (const auto &p : ode->parameters) known += (known.empty() ? "" : ", ") + p.info.name;
-    diags.report(DiagId::UnknownComponent, {},
-                 "--sensitivities: '" + name + "' is not a parameter of " + model.name +
-                     (known.empty() ? " (it has none)" : " (parameters: " + known + ")"));
+  auto ode = mo::tools::lower_model(model, diags, opt.emit == "trace" ? &trace : nullptr);
+  std::cout << trace;
+  if (!ode) {
+    diags.print(std::cerr);
     return std::nullopt;
   }
-  if (!params.empty()) mo::symbolic::add_sensitivities(*ode, params);
+  if (auto error = mo::tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty()) {
+    std::cerr << "mocompile: error: " << error << "\n";
+    return std::nullopt;
+  }
   return ode;
+}
+
+/// --emit cpp: generate C++ and write the files into the directory
+/// opt.output (each file atomically).
+int emit_cpp(mo::symbolic::OdeModel &ode, DiagnosticEngine &diags, const Options &opt) {
+  mo::codegen::CodegenOptions co;
+  co.name = opt.cpp_name;
+  co.part_files = opt.cpp_files;
+  const auto sources = mo::codegen::generate_cpp(ode, co);
+  diags.print(std::cerr);  // warnings
+  fs::create_directories(opt.output);
+  for (const auto &file : sources.files)
+    mo::runtime::write_file_atomic((fs::path(opt.output) / file.path).string(),
+                                   [&](std::ostream &os) { os << file.text; });
+  return 0;
 }
 
 int run(const Options &opt) {
@@ -108,11 +100,19 @@ int run(const Options &opt) {
     }
     if (opt.emit == "flat") {
       text = model->print();
-    } else if (auto ode = lower_model(*model, opt, diags)) {
-      text = mo::symbolic::print_ode(*ode);
     } else {
-      diags.print(std::cerr);
-      return 1;
+      auto ode = lowered(*model, diags, opt);
+      if (!ode) return 1;
+      if (opt.emit != "cpp") {
+        text = mo::symbolic::print_ode(*ode);
+      } else {
+        try {
+          return emit_cpp(*ode, diags, opt);
+        } catch (const std::exception &e) {
+          std::cerr << "mocompile: error: " << e.what() << "\n";
+          return 1;
+        }
+      }
     }
   }
   diags.print(std::cerr); // warnings
@@ -145,21 +145,33 @@ int main(int argc, char **argv) {
                  "Library file or directory of .mo files to load before FILE (repeatable)")
       ->check(CLI::ExistingPath);
   app.add_option("--emit", opt.emit,
-                 "What to print: 'ast' (the parsed file), 'flat' (the flattened model) or 'ode' "
-                 "(the lowered model: states, ordered assignments and blocks), as Modelica; 'trace' "
-                 "prints each lowering stage (alias, index reduction, BLT) before the ode")
-      ->check(CLI::IsMember({"ast", "flat", "ode", "trace"}))
+                 "What to print: 'ast' (the parsed file), 'flat' (the flattened model), 'ode' (the "
+                 "lowered model: states, ordered assignments and blocks, as flat Modelica), 'trace' "
+                 "(each lowering stage, then the ode) or 'cpp' (C++ sources, into the directory -o DIR)")
+      ->check(CLI::IsMember({"ast", "flat", "ode", "trace", "cpp"}))
       ->capture_default_str();
+  app.add_option("-o,--output", opt.output, "Write the result to this file (atomically) instead of stdout");
+  app.add_option("--cpp-name", opt.cpp_name,
+                 "--emit cpp: C++ identifier used as namespace, file stem and factory prefix")
+      ->check([](const std::string &s) {
+        return mo::codegen::is_cpp_identifier(s) ? std::string() : "not a usable C++ identifier: " + s;
+      })
+      ->capture_default_str();
+  app.add_option("--cpp-files", opt.cpp_files,
+                 "--emit cpp: write exactly N <name>_part<K>.cpp files (for build systems)");
   app.add_option("--sensitivities", opt.sensitivities,
                  "Append forward sensitivity equations for these parameters (comma-separated); "
-                 "implies --emit ode unless another lowered output is chosen")
+                 "implies --emit ode unless ode, trace or cpp is chosen")
       ->delimiter(',');
-  app.add_option("-o,--output", opt.output, "Write the result to this file (atomically) instead of stdout");
   app.add_flag("--no-balance-check", opt.no_balance_check,
                "Do not check that the model has as many equations as unknowns");
   app.add_option("--max-errors", opt.max_errors, "Stop listing errors after this many")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
-  if (!opt.sensitivities.empty() && opt.emit == "flat") opt.emit = "ode";
+  if (!opt.sensitivities.empty() && (opt.emit == "flat" || opt.emit == "ast")) opt.emit = "ode";
+  if (opt.emit == "cpp" && (opt.output.empty() || opt.output == "-")) {
+    std::cerr << "mocompile: error: --emit cpp needs -o DIR\n";
+    return 2;
+  }
   try {
     return run(opt);
   } catch (const std::exception &e) {

@@ -212,6 +212,11 @@ public:
   }
   /// Current discrete variables d (for results and for save/restore).
   [[nodiscard]] virtual std::span<double> discrete() { return {}; }
+
+  /// Why the last evaluation gave non-finite values, if the model knows (e.g.
+  /// a singular linear block, a nonlinear block that did not converge); empty
+  /// otherwise. Cleared by the next evaluation that succeeds.
+  [[nodiscard]] virtual std::string last_failure() const { return {}; }
 };
 
 }  // namespace mo::runtime

@@ -1,0 +1,308 @@
+// OdeModel → Program: sections in the order the printed methods run them.
+#include <stdexcept>
+#include <string>
+
+#include "derivatives.hpp"
+#include "mo/codegen/program.hpp"
+#include "mo/symbolic/evaluator.hpp"
+#include "mo/symbolic/traversal.hpp"
+#include "section_builder.hpp"
+
+namespace mo::codegen {
+
+using symbolic::Expr;
+using symbolic::ExprArena;
+using symbolic::ExprKind;
+using symbolic::OdeModel;
+using symbolic::SymbolRole;
+
+namespace {
+
+/// A relation on a zero crossing: which indicator, and its value after a
+/// downward crossing of that indicator.
+struct RelationOnCrossing {
+  Expr relation;
+  int indicator;
+  double value_if_down;
+};
+
+/// Relations in the when-conditions whose indicator is a zero crossing
+/// g = a - b (or b - a) of `a op b`. Adds the differences to the arena.
+std::vector<RelationOnCrossing> match_relations(OdeModel& m) {
+  std::vector<Expr> conditions;
+  for (const auto& w : m.whens) conditions.push_back(w.condition);
+  std::vector<RelationOnCrossing> out;
+  for (Expr e : symbolic::topological_order(m.arena, conditions)) {
+    const ExprKind k = m.arena.kind(e);
+    const bool less = k == ExprKind::Lt || k == ExprKind::Le;
+    if (!less && k != ExprKind::Gt && k != ExprKind::Ge) continue;
+    const Expr a = m.arena.operand(e, 0), b = m.arena.operand(e, 1);
+    const Expr forward = m.arena.sub(a, b), backward = m.arena.sub(b, a);
+    for (std::size_t i = 0; i < m.zero_crossings.size(); ++i) {
+      // g = a - b crossing downwards makes a < b true; g = b - a makes a > b true.
+      if (m.zero_crossings[i] == forward) {
+        out.push_back({e, static_cast<int>(i), less ? 1.0 : 0.0});
+        break;
+      }
+      if (m.zero_crossings[i] == backward) {
+        out.push_back({e, static_cast<int>(i), less ? 0.0 : 1.0});
+        break;
+      }
+    }
+  }
+  return out;
+}
+
+std::string names_of(const ExprArena& a, const std::vector<Expr>& symbols) {
+  std::string out;
+  for (std::size_t i = 0; i < symbols.size(); ++i) {
+    if (i == 4) return out + ", ... (" + std::to_string(symbols.size()) + " unknowns)";
+    out += (i ? ", " : "") + a.symbol_info(symbols[i]).name;
+  }
+  return out;
+}
+
+void check_targets(const OdeModel& m) {
+  for (const auto& s : m.steps) {
+    std::vector<Expr> targets;
+    if (const auto* as = std::get_if<symbolic::Assignment>(&s))
+      targets = {as->target};
+    else
+      targets = std::get<symbolic::EquationBlock>(s).unknowns;
+    for (Expr t : targets) {
+      if (m.arena.kind(t) != ExprKind::Symbol)
+        throw std::invalid_argument("code generation: a step target is not a variable symbol");
+      const SymbolRole r = m.arena.symbol_info(t).role;
+      if (r != SymbolRole::Algebraic && r != SymbolRole::Derivative)
+        throw std::invalid_argument("code generation: step target " +
+                                    m.arena.symbol_info(t).name +
+                                    " is not an algebraic variable or a derivative");
+    }
+  }
+}
+
+class Lowering {
+public:
+  explicit Lowering(OdeModel& m) : m_(m) {}
+
+  Program run() {
+    check_targets(m_);
+    for (const auto& d : m_.discrete) pre_discrete_.push_back(m_.arena.pre(d.symbol));
+    relations_ = match_relations(m_);
+    derivatives_ = detail::build_derivatives(m_);
+    // The arena is complete from here on.
+    slots_.emplace(m_.arena.size());
+    layout();
+    steps();
+    outputs();
+    starts();
+    events();
+    jacobians();
+    p_.num_slots = slots_->count();
+    p_.node_slots = slots_->all();
+    return std::move(p_);
+  }
+
+private:
+  const ExprArena& arena() const { return m_.arena; }
+
+  Section& new_section(const std::string& name, int& index) {
+    index = static_cast<int>(p_.sections.size());
+    p_.sections.push_back(Section{name, {}, false});
+    return p_.sections.back();
+  }
+  detail::SectionBuilder builder(const detail::Validity& valid) {
+    return detail::SectionBuilder(m_.arena, *slots_, p_, valid);
+  }
+
+  void layout() {
+    auto place = [&](auto const& vars) {
+      Slot first = slots_->count();
+      for (const auto& v : vars) slots_->of(v.symbol);
+      return first;
+    };
+    p_.layout.states = place(m_.states);
+    p_.layout.inputs = place(m_.inputs);
+    p_.layout.parameters = place(m_.parameters);
+    p_.layout.time = m_.time.valid() ? slots_->of(m_.time) : slots_->fresh();
+    p_.layout.discrete = place(m_.discrete);
+    p_.layout.pre_discrete = slots_->count();
+    for (Expr e : pre_discrete_) slots_->of(e);
+    const auto& s = derivatives_.seeds;
+    p_.layout.seeds_x = slots_->count();
+    for (Expr e : s) slots_->of(e);
+    p_.layout.seeds_u = p_.layout.seeds_x + static_cast<Slot>(m_.states.size());
+    p_.layout.seeds_p = p_.layout.seeds_u + static_cast<Slot>(m_.inputs.size());
+  }
+
+  void steps() {
+    new_section("steps", p_.steps);
+    auto b = builder({});
+    std::size_t number = 0;
+    for (const auto& step : m_.steps) {
+      Section& s = p_.sections[static_cast<std::size_t>(p_.steps)];
+      if (const auto* as = std::get_if<symbolic::Assignment>(&step)) {
+        b.assign(slots_->of(as->target), as->value, s);
+        continue;
+      }
+      const auto& blk = std::get<symbolic::EquationBlock>(step);
+      const std::string description = std::string(blk.linear ? "linear" : "nonlinear") +
+                                      " block " + std::to_string(++number) + " for " +
+                                      names_of(arena(), blk.unknowns);
+      b.block(blk, description, p_.sections[static_cast<std::size_t>(p_.steps)]);
+    }
+    Section& s = p_.sections[static_cast<std::size_t>(p_.steps)];
+    for (const auto& x : m_.states) p_.derivative_slots.push_back(b.root(x.derivative, s));
+    after_steps_ = b.valid();
+  }
+
+  void outputs() {
+    new_section("outputs", p_.outputs);
+    auto b = builder(after_steps_);
+    for (const auto& y : m_.outputs)
+      p_.output_slots.push_back(b.root(y.value, p_.sections[static_cast<std::size_t>(p_.outputs)]));
+  }
+
+  void starts() {
+    new_section("starts", p_.starts);
+    auto b = builder({});
+    for (const auto& x : m_.states)
+      p_.start_slots.push_back(b.root(x.start, p_.sections[static_cast<std::size_t>(p_.starts)]));
+    after_starts_ = b.valid();
+    // Start values at the default parameters, for info().
+    symbolic::LeafValues values;
+    for (const auto& par : m_.parameters) values[par.symbol] = par.value;
+    std::vector<Expr> starts;
+    for (const auto& x : m_.states) starts.push_back(x.start);
+    try {
+      p_.start_values = symbolic::evaluate(m_.arena, starts, values);
+    } catch (const std::invalid_argument& e) {
+      throw std::invalid_argument(std::string("code generation: a start value depends on "
+                                              "something other than parameters: ") + e.what());
+    }
+  }
+
+  void events() {
+    new_section("crossings", p_.crossings);
+    {
+      auto b = builder(after_steps_);
+      for (Expr g : m_.zero_crossings)
+        p_.crossing_slots.push_back(b.root(g, p_.sections[static_cast<std::size_t>(p_.crossings)]));
+    }
+    // pre(v) of a continuous variable is v's value when the handler starts;
+    // pre(discrete) slots are loaded by the printed methods.
+    for (std::uint32_t id = 0; id < arena().size(); ++id) {
+      const Expr e(id);
+      if (arena().kind(e) != ExprKind::Pre) continue;
+      const Expr v = arena().operand(e, 0);
+      if (arena().symbol_info(v).role != SymbolRole::Discrete)
+        p_.pre_copies.emplace_back(slots_->of(e), slots_->of(v));
+    }
+    new_section("conditions", p_.conditions);
+    {
+      auto b = builder(after_steps_);
+      for (const auto& r : relations_) b.override_relation(r.relation, r.indicator, r.value_if_down);
+      for (const auto& w : m_.whens)
+        p_.condition_slots.push_back(
+            b.root(w.condition, p_.sections[static_cast<std::size_t>(p_.conditions)]));
+    }
+    for (std::size_t k = 0; k < m_.whens.size(); ++k) {
+      const auto& w = m_.whens[k];
+      WhenCode code;
+      new_section("when" + std::to_string(k), code.section);
+      auto b = builder(after_steps_);
+      Section& s = p_.sections[static_cast<std::size_t>(code.section)];
+      for (const auto& as : w.assignments) {
+        if (arena().kind(as.target) != ExprKind::Symbol ||
+            arena().symbol_info(as.target).role != SymbolRole::Discrete)
+          throw std::invalid_argument("code generation: a when-clause assigns a non-discrete variable");
+        code.assignments.emplace_back(slots_->of(as.target), b.root(as.value, s));
+      }
+      for (const auto& r : w.reinits) {
+        if (r.state >= m_.states.size())
+          throw std::invalid_argument("code generation: reinit of a state index out of range");
+        code.reinits.emplace_back(r.state, b.root(r.value, s));
+      }
+      p_.whens.push_back(std::move(code));
+    }
+  }
+
+  void jacobians() {
+    const auto& d = derivatives_;
+    const int nx = static_cast<int>(m_.states.size()), nu = static_cast<int>(m_.inputs.size()),
+              np = static_cast<int>(m_.parameters.size());
+    int jvp_steps = -1, jvp_outputs = -1, jvp_starts = -1;
+    new_section("jvp_steps", jvp_steps);
+    auto b = builder(after_steps_);
+    std::size_t number = 0;
+    for (const auto& step : d.directional.steps) {
+      Section& s = p_.sections[static_cast<std::size_t>(jvp_steps)];
+      if (const auto* as = std::get_if<symbolic::Assignment>(&step)) {
+        b.assign(slots_->of(as->target), as->value, s);
+        continue;
+      }
+      const auto& blk = std::get<symbolic::EquationBlock>(step);
+      // Named by number only: the unknowns' names are generated, and the
+      // text must not change between generations of the same model.
+      b.block(blk, "Jacobian-vector product block " + std::to_string(++number), s);
+    }
+    auto row_slots = [&](auto& bld, int section, const std::vector<Expr>& rows) {
+      std::vector<Slot> out;
+      for (Expr r : rows)
+        out.push_back(r.valid() ? bld.root(r, p_.sections[static_cast<std::size_t>(section)]) : 0);
+      return out;
+    };
+    const std::vector<Slot> f_slots = row_slots(b, jvp_steps, d.f_rows);
+    new_section("jvp_outputs", jvp_outputs);
+    auto bo = builder(b.valid());
+    const std::vector<Slot> h_slots = row_slots(bo, jvp_outputs, d.h_rows);
+    new_section("jvp_starts", jvp_starts);
+    auto bs = builder(after_starts_);
+    const std::vector<Slot> x0_slots = row_slots(bs, jvp_starts, d.x0_rows);
+
+    const auto f_cols = detail::row_columns(arena(), d, d.f_rows);
+    const auto h_cols = detail::row_columns(arena(), d, d.h_rows);
+    const auto x0_cols = detail::row_columns(arena(), d, d.x0_rows);
+    struct Spec {
+      const std::vector<std::vector<int>>* rows;
+      const std::vector<Slot>* slots;
+      int first, count;
+      std::vector<int> base, product;
+    };
+    const Spec specs[7] = {
+        {&f_cols, &f_slots, 0, nx, {p_.steps}, {jvp_steps}},
+        {&f_cols, &f_slots, nx, nu, {p_.steps}, {jvp_steps}},
+        {&f_cols, &f_slots, nx + nu, np, {p_.steps}, {jvp_steps}},
+        {&h_cols, &h_slots, 0, nx, {p_.steps}, {jvp_steps, jvp_outputs}},
+        {&h_cols, &h_slots, nx, nu, {p_.steps}, {jvp_steps, jvp_outputs}},
+        {&h_cols, &h_slots, nx + nu, np, {p_.steps}, {jvp_steps, jvp_outputs}},
+        {&x0_cols, &x0_slots, nx + nu, np, {p_.starts}, {jvp_starts}},
+    };
+    for (std::size_t k = 0; k < 7; ++k) {
+      const Spec& sp = specs[k];
+      JacobianCode& code = p_.jacobians[k];
+      detail::pattern_and_colouring(*sp.rows, sp.first, sp.count, code);
+      for (int c = 0; c < code.cols; ++c) {
+        code.seed_slot.push_back(p_.layout.seeds_x + static_cast<Slot>(sp.first + c));
+        for (int e = code.col_start[static_cast<std::size_t>(c)]; e < code.col_start[static_cast<std::size_t>(c) + 1]; ++e)
+          code.entry_slot.push_back((*sp.slots)[static_cast<std::size_t>(code.row_index[static_cast<std::size_t>(e)])]);
+      }
+      code.base_sections = sp.base;
+      code.product_sections = sp.product;
+    }
+  }
+
+  OdeModel& m_;
+  Program p_;
+  std::optional<detail::SlotMap> slots_;
+  std::vector<Expr> pre_discrete_;
+  std::vector<RelationOnCrossing> relations_;
+  detail::Derivatives derivatives_;
+  detail::Validity after_steps_, after_starts_;
+};
+
+}  // namespace
+
+Program lower_to_program(OdeModel& model) { return Lowering(model).run(); }
+
+}  // namespace mo::codegen

@@ -1,0 +1,186 @@
+// The class every generated model defines; see printer.hpp. It is the same
+// text for all models: sizes, tables and section_<i>() functions printed
+// before it differ. Kept as one piece so that it reads like hand-written code.
+#include "printer.hpp"
+
+namespace mo::codegen::detail {
+
+const char* const model_class = R"(
+const mo::runtime::ModelInfo& model_info() {
+  static const mo::runtime::ModelInfo info = build_info();
+  return info;
+}
+
+const std::array<mo::runtime::Sparsity, 7>& sparsities() {
+  static const std::array<mo::runtime::Sparsity, 7> patterns = [] {
+    std::array<mo::runtime::Sparsity, 7> s;
+    for (std::size_t k = 0; k < 7; ++k) {
+      const JacobianTables& j = jacobian_tables[k];
+      s[k].rows = j.rows;
+      s[k].cols = j.cols;
+      s[k].col_start.assign(j.col_start, j.col_start + j.cols + 1);
+      s[k].row_index.assign(j.row_index, j.row_index + j.col_start[j.cols]);
+    }
+    return s;
+  }();
+  return patterns;
+}
+
+class GeneratedModel final : public mo::runtime::Model {
+public:
+  GeneratedModel() : w_(num_slots, 0.0), cross_(ng, 0), reversed_(ng, 0), before_(nwhen, 0.0),
+                     now_(nwhen, 0.0) {
+    reset();
+  }
+
+  const mo::runtime::ModelInfo& info() const override { return model_info(); }
+  std::unique_ptr<mo::runtime::Model> clone() const override {
+    return std::make_unique<GeneratedModel>(*this);
+  }
+
+  void initial_state(std::span<const double> p, std::span<double> x0) override {
+    reset();
+    load(0.0, {}, {}, p);
+    section_starts();
+    for (std::size_t i = 0; i < nx; ++i) x0[i] = w_[static_cast<std::size_t>(start_slots[i])];
+  }
+
+  void rhs(double t, std::span<const double> x, std::span<const double> u,
+           std::span<const double> p, std::span<double> xdot) override {
+    load(t, x, u, p);
+    section_steps();
+    for (std::size_t i = 0; i < nx; ++i) xdot[i] = w_[static_cast<std::size_t>(derivative_slots[i])];
+  }
+
+  void outputs(double t, std::span<const double> x, std::span<const double> u,
+               std::span<const double> p, std::span<double> y) override {
+    load(t, x, u, p);
+    section_steps();
+    section_outputs();
+    for (std::size_t i = 0; i < ny; ++i) y[i] = w_[static_cast<std::size_t>(output_slots[i])];
+  }
+
+  const mo::runtime::Sparsity& jacobian_sparsity(mo::runtime::Jacobian block) const override {
+    return sparsities()[index(block)];
+  }
+
+  // Values by Jacobian-vector products: the seeds of one colour's columns
+  // are 1, the product section runs, and each entry is read from its slot.
+  void jacobian_values(mo::runtime::Jacobian block, double t, std::span<const double> x,
+                       std::span<const double> u, std::span<const double> p,
+                       std::span<double> values) override {
+    const JacobianTables& j = jacobian_tables[index(block)];
+    if (block == mo::runtime::Jacobian::x0_p)
+      load(0.0, {}, {}, p);  // start values depend on parameters only
+    else
+      load(t, x, u, p);
+    double* w = w_.data();
+    for (std::size_t k = 0; k < j.num_base; ++k) j.base[k](w, nullptr, ws_);
+    for (std::size_t c = 0; c < j.colours; ++c) {
+      for (int k = j.colour_start[c]; k < j.colour_start[c + 1]; ++k) w[j.seeds[k]] = 1.0;
+      for (std::size_t k = 0; k < j.num_product; ++k) j.product[k](w, nullptr, ws_);
+      for (int e = j.entry_start[c]; e < j.entry_start[c + 1]; ++e)
+        values[static_cast<std::size_t>(j.entry_index[e])] = w[j.entry_slot[e]];
+      for (int k = j.colour_start[c]; k < j.colour_start[c + 1]; ++k) w[j.seeds[k]] = 0.0;
+    }
+  }
+
+  void event_indicators(double t, std::span<const double> x, std::span<const double> u,
+                        std::span<const double> p, std::span<double> g) override {
+    load(t, x, u, p);
+    section_steps();
+    run(section_index_crossings, nullptr);
+    for (std::size_t i = 0; i < ng; ++i) g[i] = w_[static_cast<std::size_t>(crossing_slots[i])];
+  }
+
+  // pre(d) := d; a when-clause fires if its condition is true now and was
+  // false just before. Relations on indicators take their value from the
+  // crossing direction (remembered through the event iteration at one instant);
+  // the value before comes from the opposite direction, or from the previous
+  // handler call at the same instant.
+  mo::runtime::EventResponse handle_event(const mo::runtime::EventCause& cause,
+                                          std::span<double> x, std::span<const double> u,
+                                          std::span<const double> p) override {
+    load(cause.t, x, u, p);
+    section_steps();
+    for (std::size_t k = 0; k < npre; ++k)
+      w_[static_cast<std::size_t>(pre_to[k])] = w_[static_cast<std::size_t>(pre_from[k])];
+    bool fresh = false;
+    for (std::size_t i = 0; i < ng && i < cause.crossings.size(); ++i) fresh = fresh || cause.crossings[i] != 0;
+    if (fresh) {
+      for (std::size_t i = 0; i < ng; ++i) cross_[i] = i < cause.crossings.size() ? cause.crossings[i] : 0;
+    } else if (!(cause.t == event_time_)) {
+      std::fill(cross_.begin(), cross_.end(), 0);
+    }
+    if (fresh || !(cause.t == event_time_)) {
+      for (std::size_t i = 0; i < ng; ++i) reversed_[i] = -cross_[i];
+      conditions(reversed_.data(), before_);
+    } else {
+      before_ = now_;
+    }
+    event_time_ = cause.t;
+    conditions(cross_.data(), now_);
+    mo::runtime::EventResponse response;
+    double* w = w_.data();
+    for (std::size_t k = 0; k < nwhen; ++k) {
+      if (now_[k] == 0.0 || before_[k] != 0.0) continue;
+      when_sections[k](w, nullptr, ws_);
+      for (int a = when_assign_start[k]; a < when_assign_start[k + 1]; ++a)
+        w[when_assign_target[a]] = w[when_assign_value[a]];
+      for (int r = when_reinit_start[k]; r < when_reinit_start[k + 1]; ++r) {
+        x[static_cast<std::size_t>(when_reinit_state[r])] = w[when_reinit_value[r]];
+        response.states_reinit = true;
+      }
+    }
+    for (std::size_t i = 0; i < nd; ++i)
+      response.discrete_changed = response.discrete_changed || w[d_slot + i] != w[pre_d_slot + i];
+    return response;
+  }
+
+  std::span<double> discrete() override { return {w_.data() + d_slot, nd}; }
+  std::string last_failure() const override { return ws_.failure; }
+
+private:
+  static std::size_t index(mo::runtime::Jacobian block) { return static_cast<std::size_t>(block); }
+
+  /// Discrete variables, pre() values and Newton guesses to their starts.
+  void reset() {
+    reset_discrete();
+    for (std::size_t i = 0; i < nnewton; ++i) w_[static_cast<std::size_t>(newton_slots[i])] = newton_start[i];
+    event_time_ = std::numeric_limits<double>::quiet_NaN();
+  }
+  void reset_discrete() {
+    for (std::size_t i = 0; i < nd; ++i) w_[d_slot + i] = w_[pre_d_slot + i] = discrete_start[i];
+  }
+
+  /// Copies the arguments into their slots; outside events pre(d) = d.
+  void load(double t, std::span<const double> x, std::span<const double> u, std::span<const double> p) {
+    std::copy(x.begin(), x.end(), w_.begin() + x_slot);
+    std::copy(u.begin(), u.end(), w_.begin() + u_slot);
+    std::copy(p.begin(), p.end(), w_.begin() + p_slot);
+    w_[t_slot] = t;
+    for (std::size_t i = 0; i < nd; ++i) w_[pre_d_slot + i] = w_[d_slot + i];
+    ws_.time = t;
+    ws_.failure.clear();
+  }
+
+  void run(int section, const int* cross) {
+    if (section >= 0) all_sections[section](w_.data(), cross, ws_);
+  }
+  void section_steps() { run(section_index_steps, nullptr); }
+  void section_outputs() { run(section_index_outputs, nullptr); }
+  void section_starts() { run(section_index_starts, nullptr); }
+  void conditions(const int* cross, std::vector<double>& values) {
+    run(section_index_conditions, cross);
+    for (std::size_t k = 0; k < nwhen; ++k) values[k] = w_[static_cast<std::size_t>(condition_slots[k])];
+  }
+
+  std::vector<double> w_;
+  G::BlockWorkspace ws_;
+  std::vector<int> cross_, reversed_;
+  std::vector<double> before_, now_;
+  double event_time_ = std::numeric_limits<double>::quiet_NaN();
+};
+)";
+
+}  // namespace mo::codegen::detail

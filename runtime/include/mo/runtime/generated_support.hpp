@@ -1,0 +1,92 @@
+// What generated model code calls besides the Model interface: scalar
+// functions whose semantics must match the symbolic evaluator exactly, and
+// the drivers of equation blocks.
+//
+//   linear block     J z = -c          J, c read from work slots, LU with pivoting
+//   nonlinear block  0 = r(z)          damped Newton on the generated J, starting
+//                                      from the unknowns' current slot values
+//
+// Generated code keeps every value in one work array `w` (one slot per
+// expression node or variable); blocks name their unknowns, residuals and
+// Jacobian entries by slot. A failed block sets its unknowns to NaN and
+// records why in the workspace; evaluation itself never throws.
+#pragma once
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace mo::runtime::generated {
+
+/// sign(a): 1, -1 or 0; NaN for NaN (as the symbolic evaluator).
+inline double sign(double a) {
+  if (std::isnan(a)) return a;
+  return a > 0 ? 1.0 : (a < 0 ? -1.0 : 0.0);
+}
+/// min(a, b); NaN if either operand is NaN (commutative).
+inline double min(double a, double b) {
+  if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<double>::quiet_NaN();
+  return a < b ? a : b;
+}
+/// max(a, b); NaN if either operand is NaN (commutative).
+inline double max(double a, double b) {
+  if (std::isnan(a) || std::isnan(b)) return std::numeric_limits<double>::quiet_NaN();
+  return a > b ? a : b;
+}
+
+/// J(row, col) = w[slot].
+struct BlockEntry {
+  int row;   ///< residual index
+  int col;   ///< unknown index
+  int slot;  ///< work slot holding the value
+};
+
+/// A linear block J z = -c, evaluated before the solve.
+struct LinearBlock {
+  int size;                   ///< number of unknowns n
+  const int* unknowns;        ///< n slots receiving z
+  const int* offsets;         ///< n slots holding c (the residuals at z = 0)
+  const BlockEntry* entries;  ///< structurally nonzero J entries
+  int num_entries;            ///< number of entries
+  const char* description;    ///< e.g. "linear block 2 for der(v), der(w)", for messages
+};
+
+/// A nonlinear block 0 = r(z) with Jacobian entries, both computed by `evaluate`.
+struct NonlinearBlock {
+  int size;                   ///< number of unknowns n
+  const int* unknowns;        ///< n slots holding z (the start guess on entry)
+  const int* residuals;       ///< n slots receiving r(z) from evaluate
+  const BlockEntry* entries;  ///< J entries, computed by evaluate too
+  int num_entries;            ///< number of entries
+  void (*evaluate)(double* w);  ///< computes residuals and entries from w[unknowns]
+  const char* description;    ///< for messages
+};
+
+/// Newton settings for nonlinear blocks.
+struct NewtonOptions {
+  int max_iterations = 50;        ///< Newton steps before giving up
+  double step_tolerance = 1e-10;  ///< converged if |dz_i| <= tol·(1 + |z_i|) for all i
+  double residual_tolerance = 1e-13;  ///< or if max |r_i| <= this
+  int max_halvings = 12;          ///< line-search halvings of a step
+};
+
+/// Scratch and failure record of one model instance's block solves.
+struct BlockWorkspace {
+  std::vector<double> a, b, z, dz;  ///< matrix and vectors, resized as needed
+  std::vector<int> pivots;          ///< row swaps
+  double time = 0.0;                ///< model time of the current evaluation, for messages
+  std::string failure;              ///< why the last failed block failed; empty if none
+  NewtonOptions newton;             ///< settings
+};
+
+/// Solves the linear block; writes z into w[unknowns]. On a singular J, sets
+/// the unknowns to NaN, records the failure in ws.failure, returns false.
+bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws);
+
+/// Solves the nonlinear block by damped Newton from w[unknowns]. On failure
+/// (singular J, non-finite residuals, no convergence) sets the unknowns to
+/// NaN, records why in ws.failure and returns false.
+bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws);
+
+}  // namespace mo::runtime::generated

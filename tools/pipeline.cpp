@@ -1,0 +1,81 @@
+// Parse, flatten, lower; see pipeline.hpp.
+#include "pipeline.hpp"
+
+#include <algorithm>
+#include <filesystem>
+#include <iostream>
+
+#include "mo/frontend/flatten.hpp"
+#include "mo/frontend/parser.hpp"
+#include "mo/symbolic/sensitivities.hpp"
+
+#include "mo/symbolic/lower.hpp"
+
+namespace fs = std::filesystem;
+
+namespace mo::tools {
+
+std::vector<std::string> library_files(const std::string& arg) {
+  std::vector<std::string> files;
+  std::error_code ec;
+  if (fs::is_directory(arg, ec)) {
+    for (auto& entry : fs::recursive_directory_iterator(arg, ec))
+      if (entry.is_regular_file() && entry.path().extension() == ".mo")
+        files.push_back(entry.path().string());
+    std::sort(files.begin(), files.end(), [](const std::string& a, const std::string& b) {
+      bool pa = fs::path(a).filename() == "package.mo", pb = fs::path(b).filename() == "package.mo";
+      auto da = std::count(a.begin(), a.end(), '/'), db = std::count(b.begin(), b.end(), '/');
+      return std::tie(da, pb, a) < std::tie(db, pa, b);
+    });
+  } else {
+    files.push_back(arg);
+  }
+  return files;
+}
+
+std::unique_ptr<frontend::flat::Model> load_flat_model(const ModelSource& source,
+                                                       frontend::SourceManager& sources,
+                                                       frontend::DiagnosticEngine& diags) {
+  using namespace mo::frontend;
+  Library lib;
+  for (const auto& arg : source.libs)
+    for (const auto& file : library_files(arg))
+      if (auto sd = parse_file(file, sources, diags)) lib.add(std::move(sd));
+  auto main_file = parse_file(source.file, sources, diags);
+  if (!main_file || diags.has_errors()) return nullptr;
+  std::string class_name = source.class_name;
+  if (class_name.empty() && !main_file->classes.empty()) {
+    for (const auto& part : main_file->within) class_name += part + ".";
+    class_name += main_file->classes.back()->name;
+  }
+  lib.add(std::move(main_file));
+  FlattenOptions fo;
+  fo.check_balance = source.check_balance;
+  return flatten(lib, class_name, diags, fo);
+}
+
+std::optional<symbolic::OdeModel> lower_model(const frontend::flat::Model& flat,
+                                              frontend::DiagnosticEngine& diags,
+                                              std::string* trace) {
+  symbolic::LowerOptions options;
+  options.trace = trace;
+  return symbolic::lower(flat, diags, options);
+}
+
+std::string add_named_sensitivities(symbolic::OdeModel& model, const std::vector<std::string>& names) {
+  std::vector<std::size_t> indices;
+  for (const auto& n : names) {
+    const auto k = model.parameter_index(n);
+    if (!k) {
+      std::string known;
+      for (const auto& p : model.parameters) known += (known.empty() ? "" : ", ") + p.info.name;
+      return "--sensitivities: '" + n + "' is not a parameter of " + model.name +
+             (known.empty() ? " (it has none)" : " (parameters: " + known + ")");
+    }
+    indices.push_back(*k);
+  }
+  if (!indices.empty()) symbolic::add_sensitivities(model, indices);
+  return {};
+}
+
+}  // namespace mo::tools
