@@ -5,7 +5,9 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
+#include <sys/wait.h>
 #include <random>
 
 #include "../frontend/compile.hpp"
@@ -201,4 +203,20 @@ TEST_CASE("golden dumps of every lowering stage") {
     if (std::getenv("MO_UPDATE_GOLDEN")) mo::test::write_file(expected_path, actual);
     CHECK(actual == read_file(expected_path));
   }
+}
+
+TEST_CASE("mocompile reports structural errors at their source lines and exits 1") {
+  const std::string cmd = std::string(MO_BINARY_DIR) + "/tools/mocompile " + MO_TEST_DATA_DIR +
+                          "/Singular.mo --emit ode 2>&1";
+  FILE* pipe = popen(cmd.c_str(), "r");
+  REQUIRE(pipe);
+  std::string out;
+  char buf[512];
+  while (std::fgets(buf, sizeof buf, pipe)) out += buf;
+  const int status = pclose(pipe);
+  INFO(out);
+  CHECK(WEXITSTATUS(status) == 1);
+  CHECK_THAT(out, Catch::Contains("Singular.mo:8:3: error: structurally singular: this equation"));
+  CHECK_THAT(out, Catch::Contains("Singular.mo:5:8: error: structurally singular: no equation is "
+                                  "left to determine 'y'"));
 }
