@@ -136,6 +136,10 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
       if (type == P::EXTERNAL) cls.is_external = true;
     } else if (auto *el = dynamic_cast<P::Element_listContext *>(child)) {
       element_list(el, cls, is_protected);
+      for (auto *an : el->annotation())
+        vendor_annotation(an, cls);
+    } else if (auto *an = dynamic_cast<P::AnnotationContext *>(child)) {
+      vendor_annotation(an, cls);
     } else if (auto *eq = dynamic_cast<P::Equation_sectionContext *>(child)) {
       auto &target = eq->INITIAL() ? cls.initial_equations : cls.equations;
       for (auto *e : eq->equation())
@@ -148,6 +152,19 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
       for (auto *c : con->constraint())
         cls.constraints.push_back(constraint(c));
     }
+  }
+}
+
+/// Keeps the arguments of `__mocompile(...)` from a class annotation; the
+/// rest of the annotation is not read.
+void AstBuilder::vendor_annotation(P::AnnotationContext *ctx, ClassDef &cls) {
+  Modification m = class_modification(ctx->class_modification());
+  for (auto &arg : m.args) {
+    if (arg.path.size() != 1 || arg.path[0] != "__mocompile")
+      continue;
+    for (auto &inner : arg.mod.args)
+      cls.vendor_annotation.args.push_back(std::move(inner));
+    cls.vendor_annotation.range = arg.range;
   }
 }
 

@@ -33,6 +33,7 @@ private:
   ast::ClassPtr class_definition(P::Class_definitionContext *ctx);
   void composition(P::CompositionContext *ctx, ast::ClassDef &cls);
   void element_list(P::Element_listContext *ctx, ast::ClassDef &cls, bool is_protected);
+  void vendor_annotation(P::AnnotationContext *ctx, ast::ClassDef &cls);
   void element(P::ElementContext *ctx, ast::ClassDef &cls, bool is_protected);
   void component_clause(P::Component_clauseContext *ctx, ast::ClassDef &cls, bool is_protected,
                         P::ElementContext *prefixes);

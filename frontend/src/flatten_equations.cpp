@@ -194,6 +194,11 @@ void Flattener::flatten_optimization() {
       } catch (Reported &) {
       }
     }
+  for (const ast::ElementMod &em : def.vendor_annotation.args) {
+    std::string name;
+    for (const auto &part : em.path) name += (name.empty() ? "" : ".") + part;
+    opt.options.push_back({name, em.mod.binding ? em.mod.binding->clone() : nullptr, em.range});
+  }
   model_->optimization = std::move(opt);
 }
 

@@ -66,6 +66,7 @@ public:
       info_of_[dae_.parameters[k].symbol] = &dae_.parameters[k].info;
     }
     for (auto& d : dae_.discrete) info_of_[d.symbol] = &d.info;
+    for (auto& u : dae_.inputs) info_of_[u.symbol] = &u.info;
     for (std::size_t i = 0; i < f_.variables.size(); ++i) attributes(static_cast<int>(i));
     for (const ast::Equation& eq : f_.equations) equation(eq);
     outputs();
@@ -210,7 +211,7 @@ private:
   std::unordered_set<int> in_progress_;
   std::optional<ExprConverter> conv_;
   LeafValues param_values_;  ///< default value of every parameter symbol
-  std::unordered_map<Expr, VariableInfo*, ExprHash> info_of_;  ///< parameter/discrete info
+  std::unordered_map<Expr, VariableInfo*, ExprHash> info_of_;  ///< parameter/input/discrete info
   bool ok_ = true;
 };
 

@@ -218,6 +218,9 @@ struct ClassDef {
 
   /// `optimization N(objective = ..., startTime = ...)` and long-class mods.
   Modification class_mod;
+  /// The arguments of `annotation(__mocompile(...))` in the class's own
+  /// annotations (study options); other annotations are ignored.
+  Modification vendor_annotation;
 
   std::vector<ClassPtr> classes;
   std::vector<Component> components;

@@ -43,12 +43,22 @@ struct Variable {
   }
 };
 
+/// One `name = value` of a class's `__mocompile` annotation.
+struct StudyOption {
+  std::string name;
+  ast::ExprPtr value;  ///< null if written without a value
+  SourceRange range;
+};
+
 /// Optimica: `objective`, `objectiveIntegrand`, `startTime`, `finalTime`
 /// and the constraint section (EquationKind::Constraint equations).
 struct Optimization {
   ast::ExprPtr objective, objective_integrand, start_time, final_time;
   std::vector<ast::Equation> constraints;
   SourceRange range;
+  /// `annotation(__mocompile(name = value, ...))` of the optimization class:
+  /// study options, values as written (not resolved or evaluated).
+  std::vector<StudyOption> options;
 };
 
 struct Model {

@@ -1,0 +1,164 @@
+// Objective and constraints as outputs; see study_problem.hpp.
+#include "study_problem.hpp"
+
+#include <cmath>
+#include <fmt/format.h>
+
+namespace mo::tools {
+
+namespace ast = frontend::ast;
+namespace flat = frontend::flat;
+using frontend::DiagId;
+
+std::optional<double> constant_value(const flat::Model& m, const ast::Expr& e) {
+  switch (e.kind) {
+  case ast::ExprKind::Real:
+  case ast::ExprKind::Integer:
+  case ast::ExprKind::Boolean: return e.number;
+  case ast::ExprKind::Ref:
+    if (e.var >= 0) return m.variables[static_cast<std::size_t>(e.var)].value;
+    return std::nullopt;
+  case ast::ExprKind::Unary: {
+    auto x = constant_value(m, *e.args[0]);
+    if (!x) return std::nullopt;
+    return e.op == ast::Op::Neg ? -*x : *x;
+  }
+  case ast::ExprKind::Binary: {
+    auto a = constant_value(m, *e.args[0]), b = constant_value(m, *e.args[1]);
+    if (!a || !b) return std::nullopt;
+    switch (e.op) {
+    case ast::Op::Add: case ast::Op::ElemAdd: return *a + *b;
+    case ast::Op::Sub: case ast::Op::ElemSub: return *a - *b;
+    case ast::Op::Mul: case ast::Op::ElemMul: return *a * *b;
+    case ast::Op::Div: case ast::Op::ElemDiv: return *a / *b;
+    case ast::Op::Pow: case ast::Op::ElemPow: return std::pow(*a, *b);
+    default: return std::nullopt;
+    }
+  }
+  default: return std::nullopt;
+  }
+}
+
+namespace {
+
+/// Replaces every `v(T)` (a Call with a resolved variable) in `e` by `v` and
+/// collects the times T. False after reporting a non-constant time.
+bool strip_times(const flat::Model& m, ast::Expr& e, std::vector<double>& times,
+                 frontend::DiagnosticEngine& diags) {
+  if (e.kind == ast::ExprKind::Call && e.var >= 0 && e.args.size() == 1) {
+    const auto t = constant_value(m, *e.args[0]);
+    if (!t) {
+      diags.report(DiagId::BadOptimization, e.range, "the time of this point value is not constant");
+      return false;
+    }
+    times.push_back(*t);
+    e.kind = ast::ExprKind::Ref;
+    e.args.clear();
+    return true;
+  }
+  for (auto& a : e.args)
+    if (!strip_times(m, *a, times, diags)) return false;
+  return true;
+}
+
+/// Adds `name = expr` as a top-level output of the flat model.
+void add_output(flat::Model& m, const std::string& name, ast::ExprPtr expr,
+                frontend::SourceRange range) {
+  flat::Variable v;
+  v.name = name;
+  v.causality = ast::Causality::Output;
+  v.range = range;
+  v.description = "added by mocompile for the optimization problem";
+  const std::int32_t index = m.add(std::move(v));
+  ast::Equation eq;
+  eq.kind = ast::EquationKind::Simple;
+  eq.range = range;
+  eq.lhs = ast::make_ref(name, range);
+  eq.lhs->var = index;
+  eq.rhs = std::move(expr);
+  m.equations.push_back(std::move(eq));
+}
+
+/// The single time of a point expression, nullopt for none; false on a mix.
+bool common_time(const std::vector<double>& times, std::optional<double>& t) {
+  for (double x : times) {
+    if (t && *t != x) return false;
+    t = x;
+  }
+  return true;
+}
+
+bool add_constraint(flat::Model& m, const ast::Equation& eq, std::size_t k, ProblemOutputs& out,
+                    frontend::DiagnosticEngine& diags) {
+  ast::ExprPtr lhs = eq.lhs->clone(), rhs = eq.rhs->clone();
+  std::vector<double> times;
+  if (!strip_times(m, *lhs, times, diags) || !strip_times(m, *rhs, times, diags)) return false;
+  ProblemConstraint c;
+  c.range = eq.range;
+  if (!common_time(times, c.time)) {
+    diags.report(DiagId::BadOptimization, eq.range,
+                 "a constraint may refer to one time instant only");
+    return false;
+  }
+  double bound = 0.0;
+  ast::ExprPtr value;
+  ast::Op rel = eq.rel;
+  if (auto r = constant_value(m, *rhs)) {
+    bound = *r;
+    value = std::move(lhs);
+  } else if (auto l = constant_value(m, *lhs)) {  // c rel e  ⇔  e rel' c
+    bound = *l;
+    value = std::move(rhs);
+    rel = rel == ast::Op::Le ? ast::Op::Ge : rel == ast::Op::Ge ? ast::Op::Le : rel;
+  } else {
+    value = std::make_unique<ast::Expr>(ast::ExprKind::Binary, eq.range);
+    value->op = ast::Op::Sub;
+    value->args.push_back(std::move(lhs));
+    value->args.push_back(std::move(rhs));
+  }
+  if (rel != ast::Op::Ge) c.hi = bound;
+  if (rel != ast::Op::Le) c.lo = bound;
+  c.output = fmt::format("$constraint[{}]", k + 1);
+  add_output(m, c.output, std::move(value), eq.range);
+  out.constraints.push_back(c);
+  return true;
+}
+
+}  // namespace
+
+std::optional<ProblemOutputs> add_problem_outputs(flat::Model& m,
+                                                  frontend::DiagnosticEngine& diags) {
+  if (!m.optimization) return std::nullopt;
+  flat::Optimization& opt = *m.optimization;
+  ProblemOutputs out;
+  if (opt.start_time) out.t0 = constant_value(m, *opt.start_time).value_or(0.0);
+  if (opt.final_time) out.tf = constant_value(m, *opt.final_time).value_or(1.0);
+  if (out.tf <= out.t0) {
+    diags.report(DiagId::BadOptimization, opt.range,
+                 fmt::format("finalTime ({}) must be after startTime ({})", out.tf, out.t0));
+    return std::nullopt;
+  }
+  if (opt.objective) {
+    ast::ExprPtr e = opt.objective->clone();
+    std::vector<double> times;
+    if (!strip_times(m, *e, times, diags)) return std::nullopt;
+    for (double t : times)
+      if (t != out.tf) {
+        diags.report(DiagId::BadOptimization, opt.objective->range,
+                     "the objective may only use values at finalTime");
+        return std::nullopt;
+      }
+    add_output(m, "$objective", std::move(e), opt.objective->range);
+    out.mayer = "$objective";
+  }
+  if (opt.objective_integrand) {
+    add_output(m, "$objective_integrand", opt.objective_integrand->clone(),
+               opt.objective_integrand->range);
+    out.lagrange = "$objective_integrand";
+  }
+  for (std::size_t k = 0; k < opt.constraints.size(); ++k)
+    if (!add_constraint(m, opt.constraints[k], k, out, diags)) return std::nullopt;
+  return out;
+}
+
+}  // namespace mo::tools
