@@ -118,12 +118,16 @@ void CollocationNlp::layout_experiment(Experiment& ex) {
   const ModelInfo& info = this->info();
   const int n_e = num_elements(), nodes = num_points() + 1;
   std::vector<double> rel = normalised_lengths(setup_.collocation);
-  double t = ex.setup.t0, span = ex.setup.tf - ex.setup.t0;
-  for (double r : rel) {
-    ex.element_start.push_back(t);
-    ex.element_length.push_back(r * span);
-    t += r * span;
+  const double t0 = ex.setup.t0, span = ex.setup.tf - ex.setup.t0;
+  const bool uniform = setup_.collocation.element_lengths.empty();
+  double fraction = 0.0;  // uniform grids use t0 + i·span/n_e exactly, like uniform sample times
+  for (int i = 0; i < n_e; ++i) {
+    ex.element_start.push_back(uniform ? t0 + double(i) * span / double(n_e) : t0 + fraction * span);
+    fraction += rel[std::size_t(i)];
   }
+  for (int i = 0; i < n_e; ++i)
+    ex.element_length.push_back((i + 1 < n_e ? ex.element_start[std::size_t(i) + 1] : ex.setup.tf) -
+                                ex.element_start[std::size_t(i)]);
   ex.state_offset = num_variables();
   auto add_node = [&](bool final_node) {
     for (std::size_t s = 0; s < info.states.size(); ++s) {

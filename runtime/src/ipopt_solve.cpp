@@ -114,10 +114,8 @@ IpoptOutcome solve_with_ipopt(CollocationNlp& nlp, const SolverOptions& options)
       out.message = "Ipopt rejected its options";
       break;
     }
-    if (!options.log_file.empty())
-      app->OpenOutputFile(attempt == 0 ? options.log_file
-                                       : options.log_file + ".retry" + std::to_string(attempt),
-                          Ipopt::J_ITERSUMMARY);
+    if (attempt == 0 && !options.log_file.empty())  // the journal stays open: one log, all attempts
+      app->OpenOutputFile(options.log_file, Ipopt::J_ITERSUMMARY);
     Ipopt::SmartPtr<CollocationTnlp> tnlp =
         new CollocationTnlp(nlp, exact, user_scaling, options.progress);
     Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
