@@ -148,6 +148,9 @@ public:
     blocks_.push_back(std::move(block));
   }
   [[nodiscard]] bool exact_hessian_possible() const;
+  /// Factor Ipopt applies to the objective internally (obj_scaling_factor); default 1.
+  [[nodiscard]] double objective_scaling() const { return objective_scaling_; }
+  void set_objective_scaling(double factor) { objective_scaling_ = factor; }
 
   // --- the NLP -----------------------------------------------------------------
   [[nodiscard]] int num_constraints() const;
@@ -184,6 +187,7 @@ private:
   std::vector<Experiment> experiments_;
   std::vector<int> parameter_var_;
   std::vector<double> lower_, upper_, initial_, scale_;
+  double objective_scaling_ = 1.0;
   std::vector<std::unique_ptr<ObjectiveTerm>> objective_;
   std::vector<std::unique_ptr<ConstraintBlock>> blocks_;
 };

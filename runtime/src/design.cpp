@@ -30,6 +30,10 @@ InputDesignResult design_once(const Model& model, const InputDesignProblem& prob
     nlp.add_constraints(std::move(epigraph));
   } else {
     nlp.add_objective(std::make_unique<detail::FisherCriterion>(fisher, problem.criterion));
+    if (problem.criterion == DesignCriterion::A) {  // trace F⁻¹ is tiny: scale it to ~1
+      double a0 = std::abs(criterion_information(DesignCriterion::A, fisher->fisher(nlp, nlp.initial_guess())));
+      if (std::isfinite(a0) && a0 > 0.0) nlp.set_objective_scaling(1.0 / a0);
+    }
   }
   double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   detail::IpoptOutcome outcome = detail::solve_with_ipopt(nlp, ocp.solver);

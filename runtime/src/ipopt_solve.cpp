@@ -71,6 +71,9 @@ void set_options(Ipopt::OptionsList& o, const SolverOptions& options, bool exact
                  bool user_scaling) {
   o.SetNumericValue("tol", options.tolerance);
   o.SetIntegerValue("max_iter", options.max_iterations);
+  o.SetNumericValue("acceptable_tol", options.acceptable_tolerance);
+  o.SetIntegerValue("acceptable_iter", options.acceptable_iterations);
+  o.SetNumericValue("acceptable_obj_change_tol", options.acceptable_objective_change);
   o.SetNumericValue("max_cpu_time", options.max_cpu_seconds);
   o.SetIntegerValue("print_level", options.print_level);
   o.SetStringValue("sb", "yes");  // no banner
@@ -108,6 +111,7 @@ IpoptOutcome solve_with_ipopt(CollocationNlp& nlp, const SolverOptions& options)
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->RethrowNonIpoptException(false);
   set_options(*app->Options(), options, exact, user_scaling);
+  app->Options()->SetNumericValue("obj_scaling_factor", nlp.objective_scaling());
   for (std::size_t attempt = 0;; ++attempt) {
     if (app->Initialize("") != Ipopt::Solve_Succeeded) {
       out.status = OptimizationStatus::invalid_problem;

@@ -124,6 +124,13 @@ struct SolverOptions {
   HessianMode hessian = HessianMode::automatic;  ///< exact or limited-memory
   double tolerance = 1e-8;                       ///< Ipopt `tol`
   int max_iterations = 1000;                     ///< Ipopt `max_iter`
+  /// Ipopt `acceptable_tol`: after `acceptable_iterations` iterations below it (and
+  /// below `acceptable_objective_change`), stop with status acceptable. L-BFGS
+  /// problems such as input design crawl near the optimum: 1e-2 with a
+  /// relative objective change of 1e-6 suits them.
+  double acceptable_tolerance = 1e-6;
+  int acceptable_iterations = 15;            ///< Ipopt `acceptable_iter`
+  double acceptable_objective_change = 1e20;  ///< Ipopt `acceptable_obj_change_tol` (relative)
   double max_cpu_seconds = 1e6;                  ///< Ipopt `max_cpu_time`
   std::string log_file;   ///< Ipopt's log (print level 5) goes here if non-empty
   int print_level = 0;    ///< Ipopt console print level (0 = silent)
