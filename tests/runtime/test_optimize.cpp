@@ -121,3 +121,20 @@ TEST_CASE("optimisation writes trajectories, re-simulation and summary", "[optim
   CHECK(std::filesystem::file_size(dir / "resimulated.csv") > 100);
   CHECK(std::filesystem::file_size(dir / "ipopt.log") > 100);
 }
+
+TEST_CASE("free parameter, fixed input and a point constraint", "[optimize]") {
+  // a' = -k a + u with u = 0 fixed and a(0) = a0 free: a(1) = 0.5 needs a0 = 0.5 e^k.
+  fixtures::LinearDecay model;
+  OptimalControlProblem p;
+  p.t0 = 0.0, p.tf = 2.0;
+  p.fixed_inputs = {{0, std::shared_ptr<const InputSignal>(constant_input(0.0))}};
+  p.free_parameters = {FreeParameter{1, {0.0, 10.0}, 1.0}};
+  p.point_constraints = {PointConstraint{0, 1.0, {0.5, 0.5}}};
+  p.mayer = {MayerTerm{1, 1.0}};  // k·b(tf) = k ∫a dt: fixed by the constraint too
+  p.collocation.n_e = 10, p.collocation.n_cp = 3;
+  OptimizationResult r = solve(model, p);
+  INFO(r.message);
+  REQUIRE(r.ok());
+  CHECK(r.parameters[1] == Approx(0.5 * std::exp(2.0)).epsilon(1e-5));
+  CHECK(r.check.max_state_difference < 1e-4);
+}
