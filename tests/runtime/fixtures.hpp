@@ -4,6 +4,7 @@
 //   LinearDecay      a' = -k a + u, b' = a; x0 = (a0, 0); y = (a, k b)  — analytic solution
 //   CartPendulum     the plant of docs/cart-pendulum.md with hand-derived Jacobians
 //   BouncingBall     h' = v, v' = -g; when h < 0: reinit(v, -e pre(v))
+//   DoubleIntegrator s' = v, v' = u; y = (u², s, v)  — minimum-energy optimal control
 //   WithSensitivities<any model>: appends S = ∂x/∂p as states, der(S) = f_x S + f_p
 #pragma once
 
@@ -369,6 +370,76 @@ private:
   ModelInfo info_;
   Sparsity sp_[7];
   double bounces_ = 0.0, pre_bounces_ = 0.0;
+};
+
+// ---------------------------------------------------------------------------
+
+/// s' = v, v' = u; outputs y = (u², s, v); no parameters. The Lagrange integrand
+/// u² makes ∫u² dt the energy of a rest-to-rest move; exact Hessians.
+class DoubleIntegrator final : public Model {
+public:
+  DoubleIntegrator() {
+    info_.name = "DoubleIntegrator";
+    info_.states = {state("s", "m"), state("v", "m/s")};
+    info_.inputs = {{"u", "acceleration", "m/s2"}};
+    info_.outputs = {{"energy_rate", "u^2", "m2/s4"}, {"position", "", "m"}, {"speed", "", "m/s"}};
+    using P = std::pair<int, int>;
+    sp_[0] = Sparsity::from_triplets(2, 2, std::vector<P>{{0, 1}});  // f_x
+    sp_[1] = Sparsity::from_triplets(2, 1, std::vector<P>{{1, 0}});  // f_u
+    sp_[2] = Sparsity::empty(2, 0);
+    sp_[3] = Sparsity::from_triplets(3, 2, std::vector<P>{{1, 0}, {2, 1}});  // h_x
+    sp_[4] = Sparsity::from_triplets(3, 1, std::vector<P>{{0, 0}});          // h_u
+    sp_[5] = Sparsity::empty(3, 0);
+    sp_[6] = Sparsity::empty(2, 0);
+    hf_ = Sparsity::empty(3, 3);
+    hh_ = Sparsity::from_triplets(3, 3, std::vector<P>{{2, 2}});  // ∂²(μ0 u²)/∂u² = 2 μ0
+  }
+  const ModelInfo& info() const override { return info_; }
+  std::unique_ptr<Model> clone() const override {
+    return std::make_unique<DoubleIntegrator>(*this);
+  }
+  void initial_state(std::span<const double>, std::span<double> x0) override {
+    x0[0] = x0[1] = 0.0;
+  }
+  void rhs(double, std::span<const double> x, std::span<const double> u,
+           std::span<const double>, std::span<double> xdot) override {
+    xdot[0] = x[1];
+    xdot[1] = u[0];
+  }
+  void outputs(double, std::span<const double> x, std::span<const double> u,
+               std::span<const double>, std::span<double> y) override {
+    y[0] = u[0] * u[0], y[1] = x[0], y[2] = x[1];
+  }
+  const Sparsity& jacobian_sparsity(Jacobian block) const override {
+    return sp_[static_cast<int>(block)];
+  }
+  void jacobian_values(Jacobian block, double, std::span<const double>,
+                       std::span<const double> u, std::span<const double>,
+                       std::span<double> v) override {
+    switch (block) {
+    case Jacobian::f_x:
+    case Jacobian::f_u: v[0] = 1.0; return;
+    case Jacobian::h_x: v[0] = 1.0, v[1] = 1.0; return;
+    case Jacobian::h_u: v[0] = 2.0 * u[0]; return;
+    case Jacobian::f_p:
+    case Jacobian::h_p:
+    case Jacobian::x0_p: return;
+    }
+  }
+  bool provides_hessian(Hessian) const override { return true; }
+  const Sparsity& hessian_sparsity(Hessian which) const override {
+    return which == Hessian::f ? hf_ : hh_;
+  }
+  void hessian_values(Hessian which, double, std::span<const double>, std::span<const double>,
+                      std::span<const double>, std::span<const double> w,
+                      std::span<double> v) override {
+    if (which == Hessian::h) v[0] = 2.0 * w[0];
+  }
+
+private:
+  ModelInfo info_;
+  Sparsity sp_[7];
+  Sparsity hf_, hh_;
 };
 
 // ---------------------------------------------------------------------------

@@ -1,0 +1,134 @@
+// Input design: the collocation problem with a Fisher criterion, several
+// starts, and the replay of the designed input on CVODES.
+#include "mo/runtime/design.hpp"
+
+#include "fisher_terms.hpp"
+#include "mo/runtime/simulate.hpp"
+#include "optimize_internal.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+namespace mo::runtime {
+namespace {
+
+constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+
+InputDesignResult design_once(const Model& model, const InputDesignProblem& problem) {
+  auto start = std::chrono::steady_clock::now();
+  InputDesignResult out;
+  const OptimalControlProblem& ocp = problem.ocp;
+  detail::CollocationNlp nlp(model, detail::nlp_setup(ocp), {detail::experiment_setup(ocp)});
+  detail::add_problem_terms(nlp, ocp, 0);
+  auto fisher = std::make_shared<const detail::FisherEvaluator>(nlp, problem.measurements,
+                                                                problem.parameters);
+  if (problem.criterion == DesignCriterion::E) {
+    auto epigraph = std::make_unique<detail::FisherEpigraph>(nlp, fisher);
+    nlp.add_objective(std::make_unique<detail::MaximiseVariable>(epigraph->epigraph_variable()));
+    nlp.add_constraints(std::move(epigraph));
+  } else {
+    nlp.add_objective(std::make_unique<detail::FisherCriterion>(fisher, problem.criterion));
+    if (problem.criterion == DesignCriterion::A) {  // trace F⁻¹ is tiny: scale it to ~1
+      double a0 = std::abs(criterion_information(DesignCriterion::A, fisher->fisher(nlp, nlp.initial_guess())));
+      if (std::isfinite(a0) && a0 > 0.0) nlp.set_objective_scaling(1.0 / a0);
+    }
+  }
+  double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  detail::IpoptOutcome outcome = detail::solve_with_ipopt(nlp, ocp.solver);
+  out.optimization = detail::collect_result(nlp, outcome, 0, ocp.path_constraints);
+  out.optimization.timings.nlp_build = build;
+  out.fisher_collocation = fisher->fisher(nlp, outcome.solution);
+  out.information_collocation = criterion_information(problem.criterion, out.fisher_collocation);
+  out.information_resimulated = nan;
+  try {
+    Inputs inputs = optimal_inputs(ocp, out.optimization, model.info().inputs.size());
+    out.fisher_resimulated = fisher_information(model, inputs, out.optimization.parameters, ocp.t0,
+                                                problem.measurements, problem.parameters);
+    out.information_resimulated = criterion_information(problem.criterion, out.fisher_resimulated);
+  } catch (const std::runtime_error& e) {
+    out.optimization.check.message += std::string(" (Fisher replay: ") + e.what() + ")";
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<double> MeasurementDesign::uniform_times(double t0, double tf, std::size_t count) {
+  std::vector<double> times;
+  for (std::size_t k = 1; k <= count; ++k) times.push_back(t0 + double(k) * (tf - t0) / double(count));
+  return times;
+}
+
+double criterion_information(DesignCriterion criterion, const Eigen::MatrixXd& f) {
+  switch (criterion) {
+  case DesignCriterion::T: return f.trace();
+  case DesignCriterion::E: return Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(f).eigenvalues().minCoeff();
+  case DesignCriterion::D:
+  case DesignCriterion::A: {
+    Eigen::LLT<Eigen::MatrixXd> llt(f);
+    if (llt.info() != Eigen::Success) return nan;
+    if (criterion == DesignCriterion::A) return -llt.solve(Eigen::MatrixXd::Identity(f.rows(), f.cols())).trace();
+    return 2.0 * Eigen::MatrixXd(llt.matrixL()).diagonal().array().log().sum();
+  }
+  }
+  return nan;
+}
+
+Eigen::MatrixXd fisher_information(const Model& model, const Inputs& inputs,
+                                   std::span<const double> p, double t0,
+                                   const MeasurementDesign& m,
+                                   const std::vector<std::size_t>& parameters) {
+  if (m.sigma.size() != m.outputs.size())
+    throw std::invalid_argument("fisher_information: one sigma per measured output");
+  std::vector<double> times{t0};
+  times.insert(times.end(), m.times.begin(), m.times.end());
+  SimulationOptions options;
+  options.relative_tolerance = 1e-10, options.absolute_tolerance = 1e-10;
+  options.sensitivities.method = SensitivityMethod::model_states;
+  options.sensitivities.parameters = parameters;
+  std::unique_ptr<Model> sim_model = model.clone();
+  SimulationResult sim = simulate(*sim_model, inputs, p, OutputGrid::at(times), options);
+  if (!sim.ok() || sim.output_sensitivities.size() != times.size())
+    throw std::runtime_error("simulation for the Fisher information failed: " +
+                             std::string(to_string(sim.status)) + ": " + sim.message);
+  const auto n = Eigen::Index(parameters.size());
+  Eigen::MatrixXd f = Eigen::MatrixXd::Zero(n, n);
+  for (std::size_t k = 1; k < times.size(); ++k) {
+    const Eigen::MatrixXd& sy = sim.output_sensitivities[k];
+    for (std::size_t r = 0; r < m.outputs.size(); ++r) {
+      Eigen::RowVectorXd row = sy.row(Eigen::Index(m.outputs[r]));
+      f += row.transpose() * row / (m.sigma[r] * m.sigma[r]);
+    }
+  }
+  return f;
+}
+
+InputDesignResult design_input(const Model& model, const InputDesignProblem& problem) {
+  try {
+    if (problem.starts.empty()) return design_once(model, problem);
+    if (problem.ocp.controls.empty())
+      throw detail::ProblemError("several starts need at least one control");
+    InputDesignResult best;
+    std::vector<double> reached;
+    for (const auto& start : problem.starts) {
+      InputDesignProblem one = problem;
+      one.starts.clear();
+      one.ocp.controls[0].initial_guess = start;
+      InputDesignResult r = design_once(model, one);
+      reached.push_back(r.optimization.ok() ? r.information_collocation : nan);
+      bool better = r.optimization.ok() &&
+                    (!best.optimization.ok() || r.information_collocation > best.information_collocation);
+      if (reached.size() == 1 || better) best = std::move(r);
+    }
+    best.start_information = std::move(reached);
+    return best;
+  } catch (const std::invalid_argument& e) {  // ProblemError and bad option values
+    InputDesignResult r;
+    r.optimization = detail::invalid_problem_result(e.what());
+    return r;
+  }
+}
+
+}  // namespace mo::runtime

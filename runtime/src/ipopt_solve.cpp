@@ -1,0 +1,145 @@
+#include "ipopt_solve.hpp"
+
+#include "ipopt_tnlp.hpp"
+
+#include <IpIpoptApplication.hpp>
+#include <IpSolveStatistics.hpp>
+
+#include <chrono>
+#include <cstdlib>
+#include <functional>
+
+namespace mo::runtime::detail {
+namespace {
+
+OptimizationStatus map_status(Ipopt::ApplicationReturnStatus s) {
+  switch (s) {
+  case Ipopt::Solve_Succeeded: return OptimizationStatus::success;
+  case Ipopt::Solved_To_Acceptable_Level: return OptimizationStatus::acceptable;
+  case Ipopt::Infeasible_Problem_Detected: return OptimizationStatus::infeasible;
+  case Ipopt::Maximum_Iterations_Exceeded: return OptimizationStatus::iteration_limit;
+  case Ipopt::Maximum_CpuTime_Exceeded: return OptimizationStatus::time_limit;
+  case Ipopt::Invalid_Number_Detected: return OptimizationStatus::evaluation_error;
+  case Ipopt::Error_In_Step_Computation:
+  case Ipopt::Insufficient_Memory: return OptimizationStatus::linear_solver_failure;
+  case Ipopt::Restoration_Failed: return OptimizationStatus::restoration_failure;
+  case Ipopt::User_Requested_Stop: return OptimizationStatus::user_stop;
+  case Ipopt::Not_Enough_Degrees_Of_Freedom:
+  case Ipopt::Invalid_Problem_Definition:
+  case Ipopt::Invalid_Option: return OptimizationStatus::invalid_problem;
+  case Ipopt::Search_Direction_Becomes_Too_Small:
+  case Ipopt::Diverging_Iterates:
+  case Ipopt::Feasible_Point_Found:
+  case Ipopt::Unrecoverable_Exception:
+  case Ipopt::NonIpopt_Exception_Thrown:
+  case Ipopt::Internal_Error: return OptimizationStatus::solver_error;
+  }
+  return OptimizationStatus::solver_error;
+}
+
+std::string describe(Ipopt::ApplicationReturnStatus s) {
+  return "Ipopt returned " + std::to_string(int(s)) + " (" +
+         std::string(to_string(map_status(s))) + ")";
+}
+
+// One change of options tried after a linear-solver/restoration failure.
+struct Retry {
+  std::string what;
+  std::function<void(Ipopt::OptionsList&, bool& user_scaling)> apply;
+};
+
+std::vector<Retry> retries() {
+  return {
+      {"mumps_scaling 0 (no MUMPS scaling)",
+       [](Ipopt::OptionsList& o, bool&) { o.SetIntegerValue("mumps_scaling", 0); }},
+      {"mumps_mem_percent 5000 (more MUMPS working memory)",
+       [](Ipopt::OptionsList& o, bool&) { o.SetIntegerValue("mumps_mem_percent", 5000); }},
+      {"other NLP scaling (user-scaling <-> gradient-based)",
+       [](Ipopt::OptionsList& o, bool& user) {
+         user = !user;
+         o.SetStringValue("nlp_scaling_method", user ? "user-scaling" : "gradient-based");
+       }},
+  };
+}
+
+bool retryable(OptimizationStatus s) {
+  return s == OptimizationStatus::linear_solver_failure ||
+         s == OptimizationStatus::restoration_failure;
+}
+
+void set_options(Ipopt::OptionsList& o, const SolverOptions& options, bool exact_hessian,
+                 bool user_scaling) {
+  o.SetNumericValue("tol", options.tolerance);
+  o.SetIntegerValue("max_iter", options.max_iterations);
+  o.SetNumericValue("acceptable_tol", options.acceptable_tolerance);
+  o.SetIntegerValue("acceptable_iter", options.acceptable_iterations);
+  o.SetNumericValue("acceptable_obj_change_tol", options.acceptable_objective_change);
+  o.SetNumericValue("max_cpu_time", options.max_cpu_seconds);
+  o.SetIntegerValue("print_level", options.print_level);
+  o.SetStringValue("sb", "yes");  // no banner
+  o.SetStringValue("hessian_approximation", exact_hessian ? "exact" : "limited-memory");
+  o.SetStringValue("nlp_scaling_method", user_scaling ? "user-scaling" : "gradient-based");
+  for (const auto& [name, value] : options.ipopt_options) {
+    char* end = nullptr;
+    long as_int = std::strtol(value.c_str(), &end, 10);
+    if (end && *end == '\0' && !value.empty()) {
+      o.SetIntegerValue(name, Ipopt::Index(as_int));
+      continue;
+    }
+    double as_real = std::strtod(value.c_str(), &end);
+    if (end && *end == '\0' && !value.empty())
+      o.SetNumericValue(name, as_real);
+    else
+      o.SetStringValue(name, value);
+  }
+}
+
+}  // namespace
+
+IpoptOutcome solve_with_ipopt(CollocationNlp& nlp, const SolverOptions& options) {
+  IpoptOutcome out;
+  bool exact = options.hessian != HessianMode::limited_memory && nlp.exact_hessian_possible();
+  if (options.hessian == HessianMode::exact && !exact) {
+    out.status = OptimizationStatus::invalid_problem;
+    out.message = "exact Hessian requested, but the model or an objective term provides none";
+    out.solution = nlp.initial_guess();
+    return out;
+  }
+  bool user_scaling = options.scale_by_nominal;
+  auto start = std::chrono::steady_clock::now();
+  std::vector<Retry> changes = retries();
+  Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
+  app->RethrowNonIpoptException(false);
+  set_options(*app->Options(), options, exact, user_scaling);
+  app->Options()->SetNumericValue("obj_scaling_factor", nlp.objective_scaling());
+  for (std::size_t attempt = 0;; ++attempt) {
+    if (app->Initialize("") != Ipopt::Solve_Succeeded) {
+      out.status = OptimizationStatus::invalid_problem;
+      out.message = "Ipopt rejected its options";
+      break;
+    }
+    if (attempt == 0 && !options.log_file.empty())  // the journal stays open: one log, all attempts
+      app->OpenOutputFile(options.log_file, Ipopt::J_ITERSUMMARY);
+    Ipopt::SmartPtr<CollocationTnlp> tnlp =
+        new CollocationTnlp(nlp, exact, user_scaling, options.progress);
+    Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
+    out.status = map_status(status);
+    out.message = describe(status);
+    if (!tnlp->evaluation_error().empty()) out.message += "; " + tnlp->evaluation_error();
+    out.solution = tnlp->last_iterate();
+    out.objective = tnlp->last_objective();
+    out.iterations = IsValid(app->Statistics()) ? int(app->Statistics()->IterationCount()) : 0;
+    out.size = {nlp.num_variables(), nlp.num_constraints(), tnlp->jacobian_nonzeros(),
+                tnlp->hessian_nonzeros()};
+    out.evaluation_seconds += tnlp->evaluation_seconds();
+    if (!options.retry_on_solver_failure || !retryable(out.status) || attempt >= changes.size())
+      break;
+    out.retries.push_back("after " + describe(status) + ": retrying with " + changes[attempt].what);
+    changes[attempt].apply(*app->Options(), user_scaling);
+  }
+  out.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (!out.retries.empty()) out.message += " after " + std::to_string(out.retries.size()) + " retries";
+  return out;
+}
+
+}  // namespace mo::runtime::detail
