@@ -1,0 +1,263 @@
+// The study runner; see study.hpp.
+#include "study.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <filesystem>
+#include <iostream>
+
+#include "common.hpp"
+#include "mo/runtime/design.hpp"
+#include "mo/runtime/estimate.hpp"
+#include "pipeline.hpp"
+#include "study_options.hpp"
+#include "study_output.hpp"
+#include "study_problem.hpp"
+
+namespace fs = std::filesystem;
+
+namespace mo::tools {
+
+namespace {
+
+namespace flat = frontend::flat;
+
+/// Everything a task needs.
+struct Study {
+  flat::Model& flat;
+  const StudyCli& cli;
+  StudyOptions opt;
+  ProblemOutputs problem;
+  BuiltModel built;
+  [[nodiscard]] const runtime::ModelInfo& info() const { return built.model->info(); }
+};
+
+std::optional<double> attribute(const flat::Model& m, const std::string& name,
+                                frontend::ast::ExprPtr flat::Attributes::*which) {
+  const std::int32_t v = m.find(name);
+  if (v < 0) return std::nullopt;
+  const auto& expr = m.variables[static_cast<std::size_t>(v)].attr.*which;
+  return expr ? constant_value(m, *expr) : std::nullopt;
+}
+
+runtime::Bounds bounds_of(const flat::Model& m, const std::string& name) {
+  runtime::Bounds b;
+  b.lo = attribute(m, name, &flat::Attributes::min).value_or(b.lo);
+  b.hi = attribute(m, name, &flat::Attributes::max).value_or(b.hi);
+  return b;
+}
+
+std::size_t output_index(const runtime::ModelInfo& info, const std::string& name) {
+  if (auto k = info.output_index(name)) return *k;
+  std::string known;
+  for (const auto& y : info.outputs)
+    if (!y.name.starts_with("$") && !y.name.starts_with("d("))
+      known += (known.empty() ? "" : ", ") + y.name;
+  throw UsageError("'" + name + "' is not an output of the model (outputs: " + known + ")");
+}
+
+std::size_t parameter_index(const runtime::ModelInfo& info, const std::string& name) {
+  if (auto k = info.parameter_index(name)) return *k;
+  throw UsageError("'" + name + "' is not a parameter of the model");
+}
+
+runtime::SolverOptions solver_options(const Study& s) {
+  runtime::SolverOptions so;
+  const StudyOptions& o = s.opt;
+  so.hessian = o.hessian == "exact"            ? runtime::HessianMode::exact
+               : o.hessian == "limited_memory" ? runtime::HessianMode::limited_memory
+                                               : runtime::HessianMode::automatic;
+  so.tolerance = o.tol;
+  so.max_iterations = o.max_iter;
+  so.max_cpu_seconds = o.max_cpu_time;
+  so.acceptable_tolerance = o.acceptable_tol;
+  so.acceptable_iterations = o.acceptable_iter;
+  so.acceptable_objective_change = o.acceptable_obj_change_tol;
+  so.log_file = (fs::path(s.cli.output) / "ipopt.log").string();
+  so.progress = runtime::print_progress(std::cerr);
+  return so;
+}
+
+runtime::CollocationOptions collocation_options(const StudyOptions& o) {
+  runtime::CollocationOptions c;
+  c.n_e = o.n_e;
+  c.n_cp = o.n_cp;
+  c.scheme = o.scheme == "gauss" ? runtime::CollocationScheme::gauss : runtime::CollocationScheme::radau;
+  c.element_lengths = o.element_lengths;
+  return c;
+}
+
+/// Free parameters: `free = true` in the study, with min/max and initialGuess.
+std::vector<runtime::FreeParameter> free_parameters(const Study& s) {
+  std::vector<runtime::FreeParameter> out;
+  for (const flat::Variable& v : s.flat.variables) {
+    if (v.variability != frontend::ast::Variability::Parameter || !v.attr.free) continue;
+    if (constant_value(s.flat, *v.attr.free).value_or(0.0) == 0.0) continue;
+    runtime::FreeParameter fp;
+    fp.parameter = parameter_index(s.info(), v.name);
+    fp.bounds = bounds_of(s.flat, v.name);
+    fp.initial_guess = attribute(s.flat, v.name, &flat::Attributes::initial_guess);
+    out.push_back(fp);
+  }
+  return out;
+}
+
+/// The Optimica problem: every input a control (bounds, initialGuess),
+/// free parameters, objective terms and constraints through their outputs.
+runtime::OptimalControlProblem base_problem(const Study& s) {
+  const runtime::ModelInfo& info = s.info();
+  runtime::OptimalControlProblem p;
+  p.t0 = s.problem.t0;
+  p.tf = s.problem.tf;
+  for (std::size_t i = 0; i < info.inputs.size(); ++i) {
+    runtime::FreeControl c;
+    c.input = i;
+    c.bounds = bounds_of(s.flat, info.inputs[i].name);
+    if (auto g = attribute(s.flat, info.inputs[i].name, &flat::Attributes::initial_guess))
+      c.initial_guess = runtime::constant_input(*g);
+    c.blocking_factors = s.opt.blocking_factors;
+    p.controls.push_back(std::move(c));
+  }
+  p.free_parameters = free_parameters(s);
+  if (s.problem.mayer) p.mayer.push_back({output_index(info, *s.problem.mayer), 1.0});
+  if (s.problem.lagrange) p.lagrange.push_back({output_index(info, *s.problem.lagrange), 1.0});
+  for (const ProblemConstraint& c : s.problem.constraints) {
+    const runtime::Bounds b{c.lo, c.hi};
+    if (c.time)
+      p.point_constraints.push_back({output_index(info, c.output), *c.time, b});
+    else
+      p.path_constraints.push_back({output_index(info, c.output), b});
+  }
+  p.collocation = collocation_options(s.opt);
+  p.solver = solver_options(s);
+  return p;
+}
+
+int report(const std::string& task, const runtime::OptimizationResult& r) {
+  std::cerr << fmt::format("morun: {} {}: objective {:.6g} after {} iterations ({:.2f} s)\n", task,
+                           runtime::to_string(r.status), r.objective, r.iterations,
+                           r.timings.solve);
+  if (!r.message.empty()) std::cerr << "morun: " << r.message << "\n";
+  for (const auto& retry : r.retries) std::cerr << "morun: retried: " << retry << "\n";
+  if (r.check.performed)
+    std::cerr << fmt::format(
+        "morun: re-simulated: largest state difference {:.3g} ({} at t = {:.3g}), largest bound "
+        "violation {:.3g}{}\n",
+        r.check.max_state_difference, r.check.worst_state, r.check.worst_state_time,
+        r.check.max_bound_violation,
+        r.check.max_bound_violation > 0 ? " (" + r.check.worst_bound + ")" : "");
+  return r.ok() ? 0 : 1;
+}
+
+int optimal_control(Study& s) {
+  const runtime::OptimalControlProblem p = base_problem(s);
+  const runtime::OptimizationResult r = runtime::solve(*s.built.model, p);
+  write_optimization_outputs(s.cli.output, s.info(), p, r, nlohmann::json::object());
+  if (s.opt.plot || s.cli.plot) plot_optimization(s.cli.output, s.info(), p, r);
+  return report("optimal control", r);
+}
+
+runtime::DesignCriterion criterion(const std::string& c) {
+  if (c == "A") return runtime::DesignCriterion::A;
+  if (c == "D") return runtime::DesignCriterion::D;
+  if (c == "E") return runtime::DesignCriterion::E;
+  return runtime::DesignCriterion::T;
+}
+
+runtime::MeasurementDesign measurements(const Study& s, double t0, double tf) {
+  runtime::MeasurementDesign m;
+  for (const auto& name : s.opt.outputs) m.outputs.push_back(output_index(s.info(), name));
+  if (m.outputs.empty()) throw UsageError("study option 'outputs' names no measured output");
+  m.sigma = s.opt.sigma;
+  if (m.sigma.size() == 1) m.sigma.assign(m.outputs.size(), m.sigma[0]);
+  if (m.sigma.size() != m.outputs.size())
+    throw UsageError(fmt::format("study option 'sigma' has {} values for {} outputs",
+                                 m.sigma.size(), m.outputs.size()));
+  m.times = s.opt.measurement_times.empty()
+                ? runtime::MeasurementDesign::uniform_times(
+                      t0, tf, static_cast<std::size_t>(s.opt.measurements))
+                : s.opt.measurement_times;
+  return m;
+}
+
+int design(Study& s) {
+  runtime::InputDesignProblem d;
+  d.ocp = base_problem(s);
+  for (const auto& name : s.opt.parameters) d.parameters.push_back(parameter_index(s.info(), name));
+  d.measurements = measurements(s, d.ocp.t0, d.ocp.tf);
+  d.criterion = criterion(s.opt.criterion);
+  if (!d.ocp.controls.empty())
+    for (const auto& spec : s.opt.starts)
+      d.starts.push_back(parse_signal(s.info().inputs[d.ocp.controls[0].input].name, spec));
+  const runtime::InputDesignResult r = runtime::design_input(*s.built.model, d);
+  write_optimization_outputs(s.cli.output, s.info(), d.ocp, r.optimization,
+                             design_json(s.info(), d, r));
+  write_designed_input(s.cli.output, s.info(), d.ocp, r.optimization);
+  if (s.opt.plot || s.cli.plot) plot_optimization(s.cli.output, s.info(), d.ocp, r.optimization);
+  std::cerr << fmt::format("morun: {}-criterion information: {:.6g} (collocation), {:.6g} "
+                           "(re-simulated)\n",
+                           s.opt.criterion, r.information_collocation, r.information_resimulated);
+  return report("input design", r.optimization);
+}
+
+int estimation(Study& s) {
+  runtime::EstimationProblem e;
+  e.parameters = free_parameters(s);
+  if (e.parameters.empty())
+    throw UsageError("estimation needs parameters declared free = true in the study");
+  if (s.opt.data.empty()) throw UsageError("estimation needs study option 'data' (CSV files)");
+  for (std::size_t k = 0; k < s.opt.data.size(); ++k) {
+    runtime::EstimationExperiment ex;
+    ex.t0 = s.problem.t0;
+    ex.data = read_measurements(resolve_path(s.cli.study_file, s.opt.data[k]), s.info(), s.opt);
+    const std::string spec = k < s.opt.inputs.size() ? s.opt.inputs[k] : "";
+    ex.inputs = experiment_inputs(s.info(), spec, s.cli.study_file);
+    e.experiments.push_back(std::move(ex));
+  }
+  e.collocation = collocation_options(s.opt);
+  e.solver = solver_options(s);
+  e.confidence = s.opt.confidence;
+  const runtime::EstimationResult r = runtime::estimate_parameters(*s.built.model, e);
+  write_estimation_outputs(s.cli.output, *s.built.model, e, r);
+  if (s.opt.plot || s.cli.plot) plot_fit(s.cli.output, s.info(), e);
+  print_estimates(std::cerr, r);
+  return r.status == runtime::OptimizationStatus::success ||
+                 r.status == runtime::OptimizationStatus::acceptable
+             ? 0
+             : 1;
+}
+
+}  // namespace
+
+int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine& diags) {
+  std::vector<OptionOverride> overrides;
+  for (const auto& text : cli.overrides_text) {
+    auto [name, value] = split_assignment(text, "--option");
+    overrides.push_back({name, value});
+  }
+  ParsedOptions parsed = parse_study_options(*flat.optimization, overrides, diags);
+  auto problem = add_problem_outputs(flat, diags);
+  diags.print(std::cerr);
+  for (const auto& e : parsed.errors) std::cerr << "morun: error: " << e << "\n";
+  if (!parsed.errors.empty()) return 2;
+  if (!parsed.ok || !problem) return 1;
+  auto ode = lower_model(flat, diags);
+  if (!ode) {
+    diags.print(std::cerr);
+    return 1;
+  }
+  if (parsed.options.task == "design") {
+    if (parsed.options.parameters.empty())
+      throw UsageError("design needs study option 'parameters' (the parameters of interest)");
+    if (auto error = add_named_sensitivities(*ode, parsed.options.parameters); !error.empty())
+      throw UsageError(error);
+  }
+  Study s{flat, cli, std::move(parsed.options), std::move(*problem), build_model(*ode, cli.jobs, "morun")};
+  fs::create_directories(cli.output);
+  if (s.opt.task == "design") return design(s);
+  if (s.opt.task == "estimation") return estimation(s);
+  return optimal_control(s);
+}
+
+}  // namespace mo::tools
