@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <random>
 
 #include "mo/codegen/generate.hpp"
 #include "mo/codegen/shared_object.hpp"
@@ -40,6 +41,9 @@ struct Options {
   bool plot = false;
   unsigned jobs = 2;
   double rtol = 1e-6, atol = 1e-8;
+  std::vector<std::string> measure;  // outputs sampled into measurements.csv
+  double noise = 0.0;                // their noise standard deviation
+  unsigned long seed = 1;            // of the noise
 };
 
 using tools::number;
@@ -76,7 +80,7 @@ runtime::Inputs inputs(const runtime::ModelInfo& info, const Options& opt) {
 void plot(const std::string& dir, const runtime::ModelInfo& info) {
   const std::string script_path = (fs::path(dir) / "plot.gp").string();
   std::ofstream gp(script_path);
-  gp << "set datafile separator ','\nset terminal pngcairo size 1000,600\nset xlabel 'time'\n"
+  gp << "set datafile separator ','\nset terminal pngcairo noenhanced size 1000,600\nset xlabel 'time'\n"
         "set key outside right\n";
   auto group = [&](const std::string& file, std::size_t first, std::size_t count) {
     if (count == 0) return;
@@ -90,6 +94,27 @@ void plot(const std::string& dir, const runtime::ModelInfo& info) {
   group("outputs.png", info.states.size(), info.outputs.size());
   gp.close();
   tools::run_gnuplot(script_path);
+}
+
+/// DIR/measurements.csv: the --measure outputs at the output times after t0,
+/// each plus white noise of standard deviation --noise (seeded by --seed).
+void write_measurements(const Options& opt, const runtime::ModelInfo& info,
+                        const runtime::ResultTable& trajectory) {
+  std::vector<std::size_t> columns;
+  for (const auto& name : opt.measure) {
+    const auto k = info.output_index(name);
+    if (!k) throw UsageError("--measure: the model has no output '" + name + "'");
+    columns.push_back(info.states.size() + *k);
+  }
+  std::mt19937_64 rng(opt.seed);
+  std::normal_distribution<double> noise(0.0, 1.0);
+  runtime::ResultTable out(opt.measure);
+  for (std::size_t row = 1; row < trajectory.rows(); ++row) {
+    std::vector<double> values;
+    for (std::size_t c : columns) values.push_back(trajectory.at(row, c) + opt.noise * noise(rng));
+    out.add_row(trajectory.times()[row], values);
+  }
+  runtime::write_csv_atomic((fs::path(opt.output) / "measurements.csv").string(), out);
 }
 
 int run(const Options& opt) {
@@ -120,6 +145,7 @@ int run(const Options& opt) {
                                         p, runtime::OutputGrid::uniform(0.0, opt.stop_time, opt.intervals), so);
   fs::create_directories(opt.output);
   runtime::write_csv_atomic((fs::path(opt.output) / "result.csv").string(), result.trajectory);
+  if (!opt.measure.empty() && result.ok()) write_measurements(opt, info, result.trajectory);
   nlohmann::json summary = nlohmann::json::parse(runtime::summary_json(result));
   summary["model"] = info.name;
   summary["compile"] = {{"cached", compiled.cached}, {"seconds", compiled.seconds},
@@ -162,6 +188,13 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", opt.output, "Result directory")->capture_default_str();
   app.add_flag("--plot", opt.plot, "Also write PNG plots (needs gnuplot)");
   app.add_option("-j,--jobs", opt.jobs, "Compile this many generated files in parallel")->capture_default_str();
+  app.add_option("--measure", opt.measure,
+                 "Also write DIR/measurements.csv: these outputs at the output times after 0")
+      ->delimiter(',');
+  app.add_option("--noise", opt.noise, "Standard deviation of white noise added to --measure outputs")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  app.add_option("--seed", opt.seed, "Seed of the --noise generator")->capture_default_str();
   app.add_option("--rtol", opt.rtol, "Relative tolerance")->capture_default_str();
   app.add_option("--atol", opt.atol, "Absolute tolerance (scaled by nominal values)")->capture_default_str();
   CLI11_PARSE(app, argc, argv);

@@ -76,6 +76,10 @@ runtime::SolverOptions solver_options(const Study& s) {
   so.acceptable_objective_change = o.acceptable_obj_change_tol;
   so.log_file = (fs::path(s.cli.output) / "ipopt.log").string();
   so.progress = runtime::print_progress(std::cerr);
+  for (const auto& text : o.ipopt_options) {
+    auto [name, value] = split_assignment(text, "study option ipopt_options:");
+    so.ipopt_options[name] = value;
+  }
   return so;
 }
 

@@ -175,6 +175,7 @@ const std::map<std::string, Setter>& setters() {
       {"acceptable_tol", number_of(&S::acceptable_tol)},
       {"acceptable_iter", integer_of(&S::acceptable_iter, 0)},
       {"acceptable_obj_change_tol", number_of(&S::acceptable_obj_change_tol)},
+      {"ipopt_options", strings_of(&S::ipopt_options)},
       {"criterion", choice_of(&S::criterion, {"A", "T", "D", "E"})},
       {"parameters", strings_of(&S::parameters)},
       {"outputs", strings_of(&S::outputs)},

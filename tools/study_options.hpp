@@ -40,6 +40,7 @@ struct StudyOptions {
   double acceptable_tol = 1e-6;          ///< Ipopt acceptable_tol
   int acceptable_iter = 15;              ///< Ipopt acceptable_iter
   double acceptable_obj_change_tol = 1e20;  ///< Ipopt acceptable_obj_change_tol
+  std::vector<std::string> ipopt_options;  ///< further Ipopt options, "name=value" each
   // Experiment design and estimation.
   std::string criterion = "T";             ///< design: A | T | D | E
   std::vector<std::string> parameters;     ///< design: parameters of interest

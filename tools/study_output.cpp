@@ -298,7 +298,7 @@ void plot_optimization(const std::string& dir, const runtime::ModelInfo& info,
   const std::string resim = gp_string((fs::path(dir) / "resimulated.csv").string());
   const std::size_t nx = info.num_base_states(), ns = info.states.size();
   std::ofstream gp(script);
-  gp << "set datafile separator ','\nset terminal pngcairo size 900," << 200 * nx + 100 << "\n";
+  gp << "set datafile separator ','\nset terminal pngcairo noenhanced size 900," << 200 * nx + 100 << "\n";
   gp << "set output " << gp_string((fs::path(dir) / "states.png").string()) << "\n";
   gp << "set multiplot layout " << nx << ",1\nset key outside right\n";
   for (std::size_t i = 0; i < nx; ++i) {
@@ -311,7 +311,7 @@ void plot_optimization(const std::string& dir, const runtime::ModelInfo& info,
     gp << "\n";
   }
   gp << "unset multiplot\n";
-  gp << "set terminal pngcairo size 900,300\nset output "
+  gp << "set terminal pngcairo noenhanced size 900,300\nset output "
      << gp_string((fs::path(dir) / "inputs.png").string()) << "\n";
   gp << "plot ";
   for (std::size_t k = 0; k < info.inputs.size(); ++k)
@@ -327,7 +327,7 @@ void plot_fit(const std::string& dir, const runtime::ModelInfo& info,
   const std::string fit = gp_string((fs::path(dir) / "fit.csv").string());
   const std::size_t n = e.experiments.front().data.outputs.size();
   std::ofstream gp(script);
-  gp << "set datafile separator ','\nset terminal pngcairo size 900," << 280 * n + 50 << "\n";
+  gp << "set datafile separator ','\nset terminal pngcairo noenhanced size 900," << 280 * n + 50 << "\n";
   gp << "set output " << gp_string((fs::path(dir) / "fit.png").string()) << "\n";
   gp << "set multiplot layout " << n << ",1\nset key outside right\n";
   for (std::size_t c = 0; c < n; ++c)

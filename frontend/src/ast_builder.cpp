@@ -144,6 +144,8 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
       auto &target = eq->INITIAL() ? cls.initial_equations : cls.equations;
       for (auto *e : eq->equation())
         target.push_back(equation(e));
+      for (auto *note : eq->annotation()) // a class annotation written last lands here
+        vendor_annotation(note, cls);
     } else if (auto *alg = dynamic_cast<P::Algorithm_sectionContext *>(child)) {
       if (!cls.has_algorithm)
         cls.algorithm_range = range(alg->ALGORITHM());
@@ -151,6 +153,8 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
     } else if (auto *con = dynamic_cast<P::Constraint_sectionContext *>(child)) {
       for (auto *c : con->constraint())
         cls.constraints.push_back(constraint(c));
+      for (auto *note : con->annotation())
+        vendor_annotation(note, cls);
     }
   }
 }
