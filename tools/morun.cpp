@@ -199,6 +199,8 @@ int main(int argc, char** argv) {
   app.add_option("--atol", opt.atol, "Absolute tolerance (scaled by nominal values)")->capture_default_str();
   CLI11_PARSE(app, argc, argv);
   opt.study.output = opt.output;
+  opt.study.sets = opt.sets;
+  opt.study.study_file = opt.source.file;
   opt.study.jobs = opt.jobs;
   opt.study.plot = opt.plot;
   try {

@@ -7,31 +7,19 @@
 #include <filesystem>
 #include <iostream>
 
-#include "common.hpp"
-#include "mo/runtime/design.hpp"
-#include "mo/runtime/estimate.hpp"
 #include "pipeline.hpp"
-#include "study_options.hpp"
+#include "study_internal.hpp"
 #include "study_output.hpp"
-#include "study_problem.hpp"
 
 namespace fs = std::filesystem;
 
 namespace mo::tools {
 
-namespace {
+namespace detail {
 
 namespace flat = frontend::flat;
 
-/// Everything a task needs.
-struct Study {
-  flat::Model& flat;
-  const StudyCli& cli;
-  StudyOptions opt;
-  ProblemOutputs problem;
-  BuiltModel built;
-  [[nodiscard]] const runtime::ModelInfo& info() const { return built.model->info(); }
-};
+namespace {
 
 std::optional<double> attribute(const flat::Model& m, const std::string& name,
                                 frontend::ast::ExprPtr flat::Attributes::*which) {
@@ -48,6 +36,8 @@ runtime::Bounds bounds_of(const flat::Model& m, const std::string& name) {
   return b;
 }
 
+}  // namespace
+
 std::size_t output_index(const runtime::ModelInfo& info, const std::string& name) {
   if (auto k = info.output_index(name)) return *k;
   std::string known;
@@ -60,6 +50,16 @@ std::size_t output_index(const runtime::ModelInfo& info, const std::string& name
 std::size_t parameter_index(const runtime::ModelInfo& info, const std::string& name) {
   if (auto k = info.parameter_index(name)) return *k;
   throw UsageError("'" + name + "' is not a parameter of the model");
+}
+
+/// The model's defaults with --set p=v applied.
+std::vector<double> parameter_values(const runtime::ModelInfo& info, const StudyCli& cli) {
+  std::vector<double> p = info.default_parameters();
+  for (const auto& text : cli.sets) {
+    auto [name, value] = split_assignment(text, "--set");
+    p[parameter_index(info, name)] = number(value, "--set " + text);
+  }
+  return p;
 }
 
 runtime::SolverOptions solver_options(const Study& s) {
@@ -107,6 +107,8 @@ std::vector<runtime::FreeParameter> free_parameters(const Study& s) {
   return out;
 }
 
+namespace {
+
 /// The Optimica problem: every input a control (bounds, initialGuess),
 /// free parameters, objective terms and constraints through their outputs.
 runtime::OptimalControlProblem base_problem(const Study& s) {
@@ -124,6 +126,7 @@ runtime::OptimalControlProblem base_problem(const Study& s) {
     p.controls.push_back(std::move(c));
   }
   p.free_parameters = free_parameters(s);
+  p.parameters = parameter_values(info, s.cli);
   if (s.problem.mayer) p.mayer.push_back({output_index(info, *s.problem.mayer), 1.0});
   if (s.problem.lagrange) p.lagrange.push_back({output_index(info, *s.problem.lagrange), 1.0});
   for (const ProblemConstraint& c : s.problem.constraints) {
@@ -162,12 +165,18 @@ int optimal_control(Study& s) {
   return report("optimal control", r);
 }
 
+}  // namespace
+
+namespace {
+
 runtime::DesignCriterion criterion(const std::string& c) {
   if (c == "A") return runtime::DesignCriterion::A;
   if (c == "D") return runtime::DesignCriterion::D;
   if (c == "E") return runtime::DesignCriterion::E;
   return runtime::DesignCriterion::T;
 }
+
+}  // namespace
 
 runtime::MeasurementDesign measurements(const Study& s, double t0, double tf) {
   runtime::MeasurementDesign m;
@@ -184,6 +193,8 @@ runtime::MeasurementDesign measurements(const Study& s, double t0, double tf) {
                 : s.opt.measurement_times;
   return m;
 }
+
+namespace {
 
 int design(Study& s) {
   runtime::InputDesignProblem d;
@@ -219,6 +230,7 @@ int estimation(Study& s) {
     ex.inputs = experiment_inputs(s.info(), spec, s.cli.study_file);
     e.experiments.push_back(std::move(ex));
   }
+  e.parameter_values = parameter_values(s.info(), s.cli);
   e.collocation = collocation_options(s.opt);
   e.solver = solver_options(s);
   e.confidence = s.opt.confidence;
@@ -233,6 +245,10 @@ int estimation(Study& s) {
 }
 
 }  // namespace
+
+}  // namespace detail
+
+using namespace detail;
 
 int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine& diags) {
   std::vector<OptionOverride> overrides;
@@ -251,7 +267,12 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
     diags.print(std::cerr);
     return 1;
   }
-  if (parsed.options.task == "design") {
+  if (parsed.options.task == "design" || parsed.options.task == "monte_carlo") {
+    if (parsed.options.task == "monte_carlo")  // sensitivities of the estimated parameters
+      for (const auto& v : flat.variables)
+        if (v.variability == frontend::ast::Variability::Parameter && v.attr.free &&
+            constant_value(flat, *v.attr.free).value_or(0) != 0)
+          parsed.options.parameters.push_back(v.name);
     if (parsed.options.parameters.empty())
       throw UsageError("design needs study option 'parameters' (the parameters of interest)");
     if (auto error = add_named_sensitivities(*ode, parsed.options.parameters); !error.empty())
@@ -261,6 +282,7 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
   fs::create_directories(cli.output);
   if (s.opt.task == "design") return design(s);
   if (s.opt.task == "estimation") return estimation(s);
+  if (s.opt.task == "monte_carlo") return monte_carlo(s);
   return optimal_control(s);
 }
 

@@ -19,6 +19,7 @@ struct StudyCli {
   std::string output = "results";           ///< result directory
   std::string study_file;                   ///< for relative data paths in the annotation
   std::vector<std::string> overrides_text;  ///< --option name=value
+  std::vector<std::string> sets;            ///< --set p=v: parameter values of the study
   unsigned jobs = 2;                        ///< parallel compile jobs
   bool plot = false;                        ///< --plot (the option `plot` also enables it)
 };

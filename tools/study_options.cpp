@@ -162,7 +162,7 @@ Setter numbers_of(std::vector<T> StudyOptions::*field) {
 const std::map<std::string, Setter>& setters() {
   using S = StudyOptions;
   static const std::map<std::string, Setter> table = {
-      {"task", choice_of(&S::task, {"optimal_control", "design", "estimation"})},
+      {"task", choice_of(&S::task, {"optimal_control", "design", "estimation", "monte_carlo"})},
       {"n_e", integer_of(&S::n_e, 1)},
       {"n_cp", integer_of(&S::n_cp, 1)},
       {"scheme", choice_of(&S::scheme, {"radau", "gauss"})},
@@ -186,6 +186,7 @@ const std::map<std::string, Setter>& setters() {
       {"data", strings_of(&S::data)},
       {"inputs", strings_of(&S::inputs)},
       {"confidence", number_of(&S::confidence)},
+      {"seeds", integer_of(&S::seeds, 1)},
       {"plot", flag_of(&S::plot)},
   };
   return table;

@@ -26,7 +26,7 @@ namespace mo::tools {
 
 /// Every study option with its default.
 struct StudyOptions {
-  std::string task = "optimal_control";  ///< optimal_control | design | estimation
+  std::string task = "optimal_control";  ///< optimal_control | design | estimation | monte_carlo
   // Discretisation and solver (JModelica's names where it has them).
   int n_e = 50;                          ///< collocation elements
   int n_cp = 3;                          ///< collocation points per element
@@ -52,6 +52,7 @@ struct StudyOptions {
   std::vector<std::string> data;           ///< estimation: one measurement CSV per experiment
   std::vector<std::string> inputs;         ///< estimation: per experiment "u=SPEC;v=SPEC"
   double confidence = 0.95;                ///< estimation: confidence level
+  int seeds = 100;                         ///< monte_carlo: noise realisations per input
   // Results.
   bool plot = true;                        ///< write PNG plots (gnuplot)
 };

@@ -1,0 +1,43 @@
+// Internals shared by the study tasks (study.cpp, study_monte_carlo.cpp).
+#pragma once
+
+#include <string>
+#include <vector>
+
+#include "common.hpp"
+#include "mo/runtime/design.hpp"
+#include "mo/runtime/estimate.hpp"
+#include "study.hpp"
+#include "study_options.hpp"
+#include "study_problem.hpp"
+
+namespace mo::tools::detail {
+
+/// Everything a task needs.
+struct Study {
+  frontend::flat::Model& flat;
+  const StudyCli& cli;
+  StudyOptions opt;
+  ProblemOutputs problem;
+  BuiltModel built;
+  [[nodiscard]] const runtime::ModelInfo& info() const { return built.model->info(); }
+};
+
+/// Index of output `name`; UsageError listing the outputs otherwise.
+std::size_t output_index(const runtime::ModelInfo& info, const std::string& name);
+/// Index of parameter `name`; UsageError otherwise.
+std::size_t parameter_index(const runtime::ModelInfo& info, const std::string& name);
+/// The model's defaults with --set p=v applied.
+std::vector<double> parameter_values(const runtime::ModelInfo& info, const StudyCli& cli);
+/// Ipopt settings from the options (log to DIR/ipopt.log, progress to stderr).
+runtime::SolverOptions solver_options(const Study& s);
+/// n_e, n_cp, scheme and element lengths.
+runtime::CollocationOptions collocation_options(const StudyOptions& o);
+/// Parameters declared free = true, with bounds and initial guesses.
+std::vector<runtime::FreeParameter> free_parameters(const Study& s);
+/// Measured outputs, σ and sample times on [t0, tf] from the options.
+runtime::MeasurementDesign measurements(const Study& s, double t0, double tf);
+/// Monte-Carlo check of the estimator (task = "monte_carlo").
+int monte_carlo(Study& s);
+
+}  // namespace mo::tools::detail
