@@ -542,7 +542,10 @@ SimulationResult Simulation::run() {
           record_through(t);
           return finish();
         }
-        if (changed && !restart(t)) return finish();
+        // Restart even if nothing discrete changed: a relation in the
+        // continuous equations switched at this root, and CVODES' last step
+        // (already taken past the root) used the right-hand side of before.
+        if (!restart(t)) return finish();
         record_through(t);
         break;  // a discrete change may move the next time event
       }

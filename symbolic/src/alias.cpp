@@ -144,8 +144,7 @@ private:
     const Expr c = a_.neg(a_.div(form->rest, t[di].second));
     const Expr ks = var(keep).symbol;
     eliminate(drop, a_.add(a_.mul(k, ks), c), ks, k);
-    if (a_.is_constant(c, 0.0) && a_.is_constant(k) && std::abs(a_.constant_value(k)) == 1.0)
-      inherit_start(keep, drop, a_.constant_value(k));
+    inherit_start(keep, drop, k, c);
     return true;
   }
 
@@ -162,14 +161,22 @@ private:
     return true;
   }
 
-  void inherit_start(int keep, int drop, double sign) {
+  /// drop = factor·keep + offset (both time-invariant): a start value of
+  /// `drop` that `keep` lacks becomes keep's, (start - offset)/factor. Without
+  /// this, eliminating a differentiated variable (e.g. a capacitor voltage
+  /// tied to a resistor current through R) would lose its initial value.
+  void inherit_start(int keep, int drop, Expr factor, Expr offset) {
     DaeVar& k = var(keep);
     const DaeVar& d = var(drop);
-    if ((d.fixed && !k.fixed) || (d.start_given && !k.start_given)) {
-      k.start = sign == 1.0 ? d.start : a_.neg(d.start);
-      k.fixed = k.fixed || d.fixed;
-      k.start_given = true;
-    }
+    if (!((d.fixed && !k.fixed) || (d.start_given && !k.start_given))) return;
+    if (a_.is_constant(offset, 0.0) && a_.is_constant(factor) && std::abs(a_.constant_value(factor)) == 1.0)
+      k.start = a_.constant_value(factor) == 1.0 ? d.start : a_.neg(d.start);  // plain alias: no arithmetic
+    else if (d.start.valid())
+      k.start = a_.div(a_.sub(d.start, offset), factor);
+    else
+      return;
+    k.fixed = k.fixed || d.fixed;
+    k.start_given = true;
   }
 
   /// drop := value; if drop has a derivative, it follows: k·der(keep), or 0

@@ -11,6 +11,7 @@
 #include <random>
 
 #include "../frontend/compile.hpp"
+#include "mo/symbolic/evaluator.hpp"
 #include "mo/symbolic/lower.hpp"
 #include "mo/symbolic/ode_interpreter.hpp"
 
@@ -128,6 +129,26 @@ TEST_CASE("the component cart-pendulum flattened by Scilab's modelicat lowers to
   INFO(r.diagnostics);
   REQUIRE(r.model);
   check_against_reference(*r.model, {"cart.s", "revolute.phi", "cart.v", "revolute.w"});
+}
+
+TEST_CASE("a differentiated variable eliminated through a parameter-scaled alias keeps its start") {
+  // modelicat's RCCharge keeps R and C as parameters, so alias elimination can
+  // only drop C1.v (C1.v = V - R*i, numeric coefficient) and i becomes the
+  // state: its start must make C1.v(0) = 0, i.e. i(0) = V/R.
+  auto r = lower_file(std::string(MO_SOURCE_DIR) + "/tests/frontend/data/scilab/RCCharge.flat.mo");
+  INFO(r.diagnostics);
+  REQUIRE(r.model);
+  const OdeModel& m = *r.model;
+  REQUIRE(m.states.size() == 1);
+  LeafValues v;
+  for (const auto& par : m.parameters) v[par.symbol] = par.value;
+  v[m.states[0].symbol] = evaluate(m.arena, std::span(&m.states[0].start, 1), v)[0];
+  v[m.time] = 0;
+  double c1v = std::nan("");
+  if (m.states[0].info.name == "C1.v") c1v = v[m.states[0].symbol];
+  for (const auto& e : m.eliminated)
+    if (e.info.name == "C1.v") c1v = evaluate(m.arena, std::span(&e.value, 1), v)[0];
+  CHECK(c1v == Approx(0.0).margin(1e-12));
 }
 
 TEST_CASE("the Cartesian pendulum (index 3) lowers to 2 states and keeps its constraint") {

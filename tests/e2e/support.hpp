@@ -1,0 +1,138 @@
+// End-to-end helpers: a .mo file (with libraries) taken through the whole
+// pipeline — parse, flatten, lower, (sensitivities), generate C++, compile
+// into the shared test cache, dlopen — to a runtime::Model.
+#pragma once
+
+#include <catch2/catch.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <memory>
+#include <span>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "codegen/support.hpp"
+#include "mo/codegen/generate.hpp"
+#include "mo/codegen/shared_object.hpp"
+#include "mo/runtime/model.hpp"
+#include "mo/runtime/result.hpp"
+#include "mo/symbolic/evaluator.hpp"
+#include "pipeline.hpp"
+
+namespace mo::e2e {
+
+/// Where the repository's models live.
+inline const std::string kModelica = std::string(MO_SOURCE_DIR) + "/modelica/";
+/// Scilab's circuits and modelicat's flat files of them.
+inline const std::string kScilab = std::string(MO_SOURCE_DIR) + "/tests/frontend/data/scilab/";
+/// The e2e suite's own .mo models.
+inline const std::string kData = std::string(MO_TEST_DATA_DIR) + "/";
+
+/// What to build: the model's source and the parameters to append forward
+/// sensitivities for (none: the plain model).
+struct ModelSpec {
+  tools::ModelSource source;
+  std::vector<std::string> sensitivities;
+};
+
+/// Flattens, lowers and (optionally) augments `spec`; FAILs the test with
+/// the diagnostics if the pipeline rejects the model.
+inline symbolic::OdeModel lower_spec(const ModelSpec& spec) {
+  frontend::SourceManager sources;
+  frontend::DiagnosticEngine diags(sources);
+  std::ostringstream printed;
+  auto flat = tools::load_flat_model(spec.source, sources, diags);
+  std::optional<symbolic::OdeModel> ode;
+  if (flat) ode = tools::lower_model(*flat, diags);
+  diags.print(printed);
+  INFO("pipeline diagnostics for " << spec.source.file << ":\n" << printed.str());
+  REQUIRE(ode);
+  const std::string error = tools::add_named_sensitivities(*ode, spec.sensitivities);
+  INFO(error);
+  REQUIRE(error.empty());
+  return std::move(*ode);
+}
+
+/// A model compiled and loaded once per process, with the lowered model it
+/// came from (for variables that lowering eliminated from the results).
+struct CompiledEntry {
+  std::unique_ptr<codegen::LoadedModel> loaded;
+  std::unique_ptr<symbolic::OdeModel> lowered;
+};
+
+/// The process-wide table behind compiled_model(), by name.
+inline std::map<std::string, CompiledEntry>& compiled_entries() {
+  static std::map<std::string, CompiledEntry> entries;
+  return entries;
+}
+
+/// The model of `spec` generated, compiled (or found in the shared test
+/// cache) and loaded once per process under `name` (a C++ identifier, unique
+/// per spec); each call returns a fresh instance.
+inline std::unique_ptr<runtime::Model> compiled_model(const std::string& name, const ModelSpec& spec) {
+  auto& entry = compiled_entries()[name];
+  if (!entry.loaded) {
+    entry.lowered = std::make_unique<symbolic::OdeModel>(lower_spec(spec));
+    codegen::CodegenOptions options;
+    options.name = name;
+    const codegen::GeneratedSources generated = codegen::generate_cpp(*entry.lowered, options);
+    const codegen::CompiledModel so =
+        codegen::compile_shared_object(generated, codegen::test::test_compiler_options());
+    entry.loaded = std::make_unique<codegen::LoadedModel>(so.library, generated.factory_symbol);
+  }
+  return entry.loaded->create();
+}
+
+/// The values of variable `name` over a trajectory of model `model_name`
+/// (compiled by compiled_model()) with parameters `p`: the result column if
+/// there is one, else the value lowering recorded for the eliminated variable,
+/// evaluated from the states, parameters and time of each row (no inputs).
+inline std::vector<double> variable(const std::string& model_name, const runtime::ResultTable& table,
+                                    std::span<const double> p, const std::string& name) {
+  const auto& names = table.names();
+  if (std::find(names.begin(), names.end(), name) != names.end()) return table.column(name);
+  const symbolic::OdeModel& m = *compiled_entries().at(model_name).lowered;
+  const auto it = std::find_if(m.eliminated.begin(), m.eliminated.end(),
+                               [&](const symbolic::OdeOutput& e) { return e.info.name == name; });
+  INFO("variable " << name << " of " << model_name);
+  REQUIRE(it != m.eliminated.end());
+  REQUIRE(m.inputs.empty());
+  std::vector<double> out;
+  for (std::size_t k = 0; k < table.rows(); ++k) {
+    symbolic::LeafValues v;
+    v[m.time] = table.times()[k];
+    for (std::size_t i = 0; i < m.states.size(); ++i) v[m.states[i].symbol] = table.at(k, i);
+    for (std::size_t i = 0; i < m.parameters.size(); ++i) v[m.parameters[i].symbol] = p[i];
+    out.push_back(symbolic::evaluate(m.arena, std::span(&it->value, 1), v)[0]);
+  }
+  return out;
+}
+
+/// Index of parameter `name`; REQUIREs that it exists.
+inline std::size_t parameter(const runtime::ModelInfo& info, const std::string& name) {
+  const auto k = info.parameter_index(name);
+  INFO("parameter " << name << " of " << info.name);
+  REQUIRE(k);
+  return *k;
+}
+
+/// The trajectory column `name`; REQUIREs that it exists.
+inline std::vector<double> column(const runtime::ResultTable& table, const std::string& name) {
+  const auto& names = table.names();
+  INFO("column " << name);
+  REQUIRE(std::find(names.begin(), names.end(), name) != names.end());
+  return table.column(name);
+}
+
+/// max_k |a_k - b_k|.
+inline double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
+  REQUIRE(a.size() == b.size());
+  double m = 0;
+  for (std::size_t k = 0; k < a.size(); ++k) m = std::max(m, std::fabs(a[k] - b[k]));
+  return m;
+}
+
+}  // namespace mo::e2e

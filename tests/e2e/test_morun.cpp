@@ -1,0 +1,118 @@
+// The morun command line on the cart-pendulum: results with sensitivities,
+// the compile cache, and clean failures (diagnostics, exit status, no
+// partial output) on bad input.
+#include <sys/wait.h>
+
+#include <filesystem>
+#include <fstream>
+#include <regex>
+
+#include "e2e/support.hpp"
+
+namespace fs = std::filesystem;
+using namespace mo::e2e;
+
+namespace {
+
+const std::string kMorun = std::string(MO_BINARY_DIR) + "/tools/morun";
+
+struct Run {
+  int status = -1;
+  std::string err;
+};
+
+std::string slurp(const fs::path& path) {
+  std::ifstream in(path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+/// A fresh directory for one test case under the build tree.
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::path(MO_BINARY_DIR) / "e2e-scratch" / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+/// Runs morun with `args` (already quoted); its compile cache is kept in the
+/// build tree so that tests never write to $HOME.
+Run morun(const std::string& args, const fs::path& dir) {
+  const fs::path err = dir / "stderr.txt";
+  const std::string cmd = "XDG_CACHE_HOME=" + quoted(std::string(MO_BINARY_DIR) + "/morun-test-cache") + " " +
+                          quoted(kMorun) + " " + args + " >/dev/null 2>" + quoted(err.string());
+  const int raw = std::system(cmd.c_str());
+  Run r;
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  r.err = slurp(err);
+  return r;
+}
+
+const std::string kCartPendulum = kModelica + "CartPendulum/CartPendulumODE.mo";
+const std::string kCommon = quoted(kCartPendulum) + " -c CartPendulumODE --stop-time 2 --input F=sine:3,1";
+
+}  // namespace
+
+TEST_CASE("morun: cart-pendulum with --sensitivities m2 writes result.csv and the rerun is cached") {
+  const fs::path dir = scratch("morun_ok");
+  const fs::path out = dir / "out";
+  const Run first = morun(kCommon + " --sensitivities m2 -o " + quoted(out.string()), dir);
+  INFO(first.err);
+  REQUIRE(first.status == 0);
+  const std::string csv = slurp(out / "result.csv");
+  const std::string header = csv.substr(0, csv.find('\n'));
+  INFO("header: " << header);
+  for (const char* column : {"time", "x", "phi", "v", "w", "y_x", "y_phi", "d(x)/d(m2)", "d(phi)/d(m2)"})
+    CHECK(("," + header + ",").find("," + std::string(column) + ",") != std::string::npos);
+  CHECK(header.find("d(x)/d(m1)") == std::string::npos);  // only the parameter asked for
+  CHECK(std::count(csv.begin(), csv.end(), '\n') == 502);  // header + 501 rows (500 intervals)
+  CHECK(fs::exists(out / "summary.json"));
+  CHECK(slurp(out / "summary.json").find("\"success\"") != std::string::npos);
+
+  const Run second = morun(kCommon + " --sensitivities m2 -o " + quoted(out.string()), dir);
+  INFO(second.err);
+  CHECK(second.status == 0);
+  CHECK(second.err.find("cached") != std::string::npos);
+  CHECK(slurp(out / "result.csv") == csv);  // deterministic
+}
+
+TEST_CASE("morun: an unknown parameter in --set fails with a message and writes nothing") {
+  const fs::path dir = scratch("morun_bad_set");
+  const fs::path out = dir / "out";
+  const Run r = morun(kCommon + " --set nosuch=1 -o " + quoted(out.string()), dir);
+  INFO(r.err);
+  CHECK(r.status != 0);
+  CHECK(r.err.find("nosuch") != std::string::npos);
+  CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("morun: a syntax error gives file.mo:line:col: error: and leaves earlier results untouched") {
+  const fs::path dir = scratch("morun_syntax");
+  const fs::path bad = dir / "Broken.mo";
+  std::ofstream(bad) << "model Broken\n  Real x(start = 1);\nequation\n  der(x) = -x +;\nend Broken;\n";
+  const fs::path out = dir / "out";
+  fs::create_directories(out);
+  std::ofstream(out / "result.csv") << "time,x\n0,1\n";
+  const Run r = morun(quoted(bad.string()) + " --stop-time 1 -o " + quoted(out.string()), dir);
+  INFO(r.err);
+  CHECK(r.status != 0);
+  CHECK(std::regex_search(r.err, std::regex(R"(Broken\.mo:4:\d+: error: )")));
+  CHECK(slurp(out / "result.csv") == "time,x\n0,1\n");
+  CHECK_FALSE(fs::exists(out / "summary.json"));
+  std::size_t files = 0;  // no temporaries left behind either
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(out)) ++files;
+  CHECK(files == 1);
+}
+
+TEST_CASE("morun: a model error (undeclared variable) is reported at its line, exit 1") {
+  const fs::path dir = scratch("morun_model_error");
+  const fs::path bad = dir / "Undeclared.mo";
+  std::ofstream(bad) << "model Undeclared\n  Real x(start = 1);\nequation\n  der(x) = -k*x;\nend Undeclared;\n";
+  const fs::path out = dir / "out";
+  const Run r = morun(quoted(bad.string()) + " --stop-time 1 -o " + quoted(out.string()), dir);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(std::regex_search(r.err, std::regex(R"(Undeclared\.mo:4:\d+: error: )")));
+  CHECK_FALSE(fs::exists(out));
+}
