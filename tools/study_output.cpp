@@ -64,14 +64,14 @@ void write_json(const std::string& path, const json& j) {
   runtime::write_file_atomic(path, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
 }
 
+}  // namespace
+
 runtime::Inputs inputs_of(const std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>>& m,
                           std::size_t n) {
   runtime::Inputs in;
   for (std::size_t i = 0; i < n; ++i) in.add(std::make_unique<SharedSignal>(m.at(i)));
   return in;
 }
-
-}  // namespace
 
 std::string resolve_path(const std::string& study_file, const std::string& path) {
   std::error_code ec;

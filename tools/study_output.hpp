@@ -32,6 +32,10 @@ runtime::MeasurementTable read_measurements(const std::string& path, const runti
 std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>> experiment_inputs(
     const runtime::ModelInfo& info, const std::string& spec, const std::string& study_file);
 
+/// Owning Inputs that refer to the shared signals (input i from m.at(i)).
+runtime::Inputs inputs_of(const std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>>& m,
+                          std::size_t n);
+
 /// Writes trajectories.csv, resimulated.csv and summary.json (with `extra`
 /// merged into the summary), each atomically.
 void write_optimization_outputs(const std::string& dir, const runtime::ModelInfo& info,
