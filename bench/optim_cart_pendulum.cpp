@@ -2,8 +2,9 @@
 // Step 3) with n_e = 100 and n_cp = 1 and 3. Prints NLP size, iterations, timings,
 // the Fisher information in collocation and on replay, and the replay's bound violation.
 // Usage: optim_cart_pendulum [n_cp ...] [--log DIR] [--ipopt NAME VALUE ...]
-//        [--criterion A|T|D|E] [--ne N] [--d2] [--progress]
+//        [--criterion A|T|D|E] [--ne N] [--d2] [--progress] [--sparse]
 #include "fixtures.hpp"
+#include "sparse_sensitivities.hpp"
 #include "mo/runtime/design.hpp"
 
 #include <cstdio>
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
   char criterion = 'T';                       // --criterion A|T|D|E
   int n_e = 100;                              // --ne N (also the number of samples)
   bool with_d2 = false, progress = false;     // --d2: design for (m2, d2); --progress
+  bool sparse = false;  // --sparse: the true ∂f/∂x pattern instead of the fixture's dense one
   for (int k = 1; k < argc; ++k) {
     std::string arg = argv[k];
     if (arg == "--log" && k + 1 < argc) log_dir = argv[++k];
@@ -52,13 +54,16 @@ int main(int argc, char** argv) {
     else if (arg == "--ne" && k + 1 < argc) n_e = std::atoi(argv[++k]);
     else if (arg == "--d2") with_d2 = true;
     else if (arg == "--progress") progress = true;
+    else if (arg == "--sparse") sparse = true;
     else points.push_back(std::atoi(arg.c_str()));
   }
   if (points.empty()) points = {1, 3};
   std::printf("%-5s %7s %7s %8s %6s %9s %9s %9s %10s %10s %9s\n", "n_cp", "n", "m", "nnz_jac",
               "iter", "build_s", "solve_s", "eval_s", "info_coll", "info_resim", "violation");
   for (int n_cp : points) {
-    fixtures::WithSensitivities<fixtures::CartPendulum> plant;
+    fixtures::WithSensitivities<fixtures::CartPendulum> dense_plant;
+    bench::SparseSensitivities<fixtures::CartPendulum> sparse_plant;
+    const Model& plant = sparse ? static_cast<const Model&>(sparse_plant) : dense_plant;
     InputDesignProblem problem = design_problem(n_cp);
     problem.ocp.solver.ipopt_options = extra;
     problem.ocp.collocation.n_e = n_e;

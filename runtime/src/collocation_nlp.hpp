@@ -66,10 +66,12 @@ class CollocationNlp;
 class ObjectiveTerm {
 public:
   virtual ~ObjectiveTerm() = default;
+  /// The term's value at v (NaN makes Ipopt treat the point as an evaluation error).
   virtual double value(CollocationNlp& nlp, std::span<const double> v) = 0;
   /// Adds ∇ to `gradient`.
   virtual void gradient(CollocationNlp& nlp, std::span<const double> v,
                         std::span<double> gradient) = 0;
+  /// True if hessian() is exact; otherwise the NLP uses L-BFGS.
   [[nodiscard]] virtual bool has_hessian(const CollocationNlp& nlp) const = 0;
   /// Adds factor·∇² (lower triangle) through `hessian`.
   virtual void hessian(CollocationNlp& nlp, std::span<const double> v, double factor,
@@ -80,12 +82,16 @@ public:
 class ConstraintBlock {
 public:
   virtual ~ConstraintBlock() = default;
+  /// Number of rows.
   [[nodiscard]] virtual int rows() const = 0;
+  /// lo and hi per row (equal for equalities).
   virtual void bounds(std::span<double> lo, std::span<double> hi) const = 0;
+  /// g(v), rows() values.
   virtual void values(CollocationNlp& nlp, std::span<const double> v, std::span<double> g) = 0;
   /// Adds the Jacobian entries with rows offset by `row0`.
   virtual void jacobian(CollocationNlp& nlp, std::span<const double> v, int row0,
                         SparseAssembler& jac) = 0;
+  /// True if hessian() is exact; otherwise the NLP uses L-BFGS.
   [[nodiscard]] virtual bool has_hessian(const CollocationNlp& nlp) const = 0;
   /// Adds Σ λ_r ∇² g_r (lower triangle).
   virtual void hessian(CollocationNlp& nlp, std::span<const double> v,
@@ -102,14 +108,20 @@ public:
   CollocationNlp(const Model& model, NlpSetup setup, std::vector<ExperimentSetup> experiments);
 
   // --- layout ------------------------------------------------------------------
+  /// Number of NLP variables so far.
   [[nodiscard]] int num_variables() const { return static_cast<int>(lower_.size()); }
+  /// Experiments sharing the parameters; elements and points per element.
   [[nodiscard]] int num_experiments() const { return static_cast<int>(experiments_.size()); }
   [[nodiscard]] int num_elements() const { return setup_.collocation.n_e; }
   [[nodiscard]] int num_points() const { return setup_.collocation.n_cp; }
+  /// Nodes, derivative matrix, quadrature weights of the scheme.
   [[nodiscard]] const CollocationPolynomials& polynomials() const { return poly_; }
+  /// The model's metadata (all experiments use clones of one model).
   [[nodiscard]] const ModelInfo& info() const { return models_.front()->info(); }
+  /// The shared setup and experiment e's setup, as given.
   [[nodiscard]] const NlpSetup& setup() const { return setup_; }
   [[nodiscard]] const ExperimentSetup& experiment(int e) const { return experiments_[e].setup; }
+  /// Experiment e's model instance (evaluation is non-const).
   [[nodiscard]] Model& model(int e) { return *models_[static_cast<std::size_t>(e)]; }
   [[nodiscard]] const Model& model(int e) const { return *models_[static_cast<std::size_t>(e)]; }
   /// Variable of state s at node k (0 = element start) of element i; i = n_e, k = 0 is b_{n_e}.
@@ -120,15 +132,20 @@ public:
   [[nodiscard]] int parameter_var(std::size_t j) const { return parameter_var_[j]; }
   /// Appends `count` variables; returns the first index.
   int add_variables(int count, Bounds bounds, double initial, double scale = 1.0);
+  /// Start time and length of element i of experiment e.
   [[nodiscard]] double element_start(int e, int i) const;
   [[nodiscard]] double element_length(int e, int i) const;
 
   // --- points ------------------------------------------------------------------
+  /// The point at τ ∈ [0, 1] of element i.
   [[nodiscard]] PointRef point(int e, int i, double tau) const;
   /// The point at time t (t0 ≤ t ≤ tf), in the element to its left at boundaries.
   [[nodiscard]] PointRef point_at(int e, double t) const;
+  /// x at the point: Σ_k ℓ_k(τ) X_ik.
   void point_state(std::span<const double> v, const PointRef& pt, std::span<double> x) const;
+  /// u at the point: element controls and fixed signals (left limit at τ = 1).
   void point_inputs(std::span<const double> v, const PointRef& pt, std::span<double> u) const;
+  /// All parameter values: free ones from v, the others fixed.
   void parameters(std::span<const double> v, std::span<double> p) const;
   /// z = (x, u, p) → NLP variables at `pt`.
   [[nodiscard]] VariableMap variable_map(const PointRef& pt) const;
@@ -143,23 +160,30 @@ public:
   Eigen::MatrixXd model_jacobian(Jacobian block, std::span<const double> v, const PointRef& pt);
 
   // --- terms -------------------------------------------------------------------
+  /// Adds a term to the objective (summed) / a block of constraint rows (appended).
   void add_objective(std::unique_ptr<ObjectiveTerm> term) { objective_.push_back(std::move(term)); }
   void add_constraints(std::unique_ptr<ConstraintBlock> block) {
     blocks_.push_back(std::move(block));
   }
+  /// True if every term and block has an exact Hessian.
   [[nodiscard]] bool exact_hessian_possible() const;
   /// Factor Ipopt applies to the objective internally (obj_scaling_factor); default 1.
   [[nodiscard]] double objective_scaling() const { return objective_scaling_; }
   void set_objective_scaling(double factor) { objective_scaling_ = factor; }
 
   // --- the NLP -----------------------------------------------------------------
+  /// Total rows of all constraint blocks.
   [[nodiscard]] int num_constraints() const;
+  /// Bounds of the variables (±inf for none) and of the constraint rows.
   void variable_bounds(std::span<double> lo, std::span<double> hi) const;
   void constraint_bounds(std::span<double> lo, std::span<double> hi) const;
+  /// The start point (from the initial-guess simulation); replaceable.
   [[nodiscard]] const std::vector<double>& initial_guess() const { return initial_; }
   void set_initial_guess(std::vector<double> v) { initial_ = std::move(v); }
+  /// Ipopt user-scaling factors: 1/nominal for states, 1 otherwise; rows likewise.
   void variable_scaling(std::span<double> s) const { std::copy(scale_.begin(), scale_.end(), s.begin()); }
   void constraint_scaling(std::span<double> s) const;
+  /// Objective, its gradient (overwritten), and the constraint values.
   double objective(std::span<const double> v);
   void objective_gradient(std::span<const double> v, std::span<double> g);
   void constraints(std::span<const double> v, std::span<double> g);

@@ -60,6 +60,18 @@ TEST_CASE("input design: each criterion beats the others on its own measure", "[
             criterion_information(criteria[i], fisher[j]) - 1e-6 * std::abs(criterion_information(criteria[i], fisher[i])));
 }
 
+TEST_CASE("input design: several starts keep the best", "[design]") {
+  fixtures::WithSensitivities<fixtures::LinearDecay> model;
+  InputDesignProblem d = decay_design(DesignCriterion::D);
+  d.starts = {std::shared_ptr<const InputSignal>(constant_input(0.5)), sine_input(1.0, 1.0)};
+  InputDesignResult r = design_input(model, d);
+  INFO(r.optimization.message);
+  REQUIRE(r.optimization.ok());
+  REQUIRE(r.start_information.size() == 2);
+  for (double reached : r.start_information)
+    if (!std::isnan(reached)) CHECK(r.information_collocation >= reached);
+}
+
 TEST_CASE("input design rejects a model without the sensitivity states", "[design]") {
   fixtures::LinearDecay plant;  // no sensitivity states
   InputDesignResult r = design_input(plant, decay_design(DesignCriterion::T));

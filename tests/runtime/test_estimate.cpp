@@ -100,6 +100,9 @@ TEST_CASE("cart-pendulum: with noise the estimate lies in its 95 % confidence in
   CHECK(r.residual_variance == Approx(1.0).margin(0.15));  // σ is the true noise level
   CHECK(r.t_quantile == Approx(1.9623).margin(1e-3));      // t_{0.975, 999}
   CHECK(r.warnings.empty());
+  const std::string json = estimation_summary_json(r);
+  CHECK(json.find("\"name\": \"m2\"") != std::string::npos);
+  CHECK(json.find("\"interval\": [") != std::string::npos);
 }
 
 TEST_CASE("estimation warns about parameters the data cannot determine", "[estimate]") {

@@ -87,6 +87,22 @@ TEST_CASE("optimisation reports an infeasible problem with a typed status", "[op
   CHECK(r.trajectories.rows() > 0);  // the last iterate is still returned
 }
 
+TEST_CASE("an exact Hessian is refused when the model has none", "[optimize]") {
+  fixtures::WithSensitivities<fixtures::LinearDecay> model;  // no Hessians
+  OptimalControlProblem p;
+  p.controls = {FreeControl{0, {-1.0, 1.0}, nullptr, {}}};
+  p.lagrange = {LagrangeTerm{0, 1.0}};
+  p.collocation.n_e = 5;
+  p.solver.hessian = HessianMode::exact;
+  OptimizationResult r = solve(model, p);
+  CHECK(r.status == OptimizationStatus::invalid_problem);
+  p.solver.hessian = HessianMode::automatic;  // falls back to L-BFGS
+  r = solve(model, p);
+  INFO(r.message);
+  CHECK(r.ok());
+  CHECK(r.size.hessian_nonzeros == 0);
+}
+
 TEST_CASE("optimisation rejects an inconsistent problem", "[optimize]") {
   fixtures::DoubleIntegrator model;
   OptimalControlProblem p = rest_to_rest(CollocationScheme::radau, 10, 2, 1.0, 1.0);

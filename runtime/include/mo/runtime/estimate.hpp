@@ -67,6 +67,15 @@ struct EstimationResult {
 /// inconsistent problem gives invalid_problem with a message.
 EstimationResult estimate_parameters(const Model& model, const EstimationProblem& problem);
 
+/// The estimate as a JSON document: status, message, iterations, χ², N, degrees of
+/// freedom, s², per parameter the estimate, standard error and interval, the
+/// covariance and correlation matrices, warnings, and each experiment's replay check.
+std::string estimation_summary_json(const EstimationResult& result);
+/// Writes summary.json (estimation_summary_json) and per experiment e
+/// `trajectories_<e>.csv` into `directory` (which must exist), atomically.
+/// Throws std::system_error on I/O failure.
+void write_estimation_result(const std::string& directory, const EstimationResult& result);
+
 /// The p-quantile of Student's t distribution with `dof` degrees of freedom
 /// (Cornish–Fisher expansion around the normal quantile; error < 1e-3 for dof ≥ 3).
 double student_t_quantile(double p, int dof);
