@@ -10,7 +10,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev coinor-libipopt-dev libsundials-dev
   antlr4 libantlr4-runtime-dev libfmt-dev catch2 libcli11-dev nlohmann-json3-dev
-  gnuplot-nox clang-14 libclang-rt-14-dev
+  gnuplot-nox jq clang-14 libclang-rt-14-dev
 )
 
 missing=()

@@ -1,22 +1,11 @@
 #!/usr/bin/env bash
 # The README's main command: installs what is missing, builds, and runs the
-# main job. Until the optimisation stages land, the main job flattens the
-# cart-pendulum (equation model and component model) and writes the results
-# to results/cart-pendulum/.
+# main job — the cart-pendulum study of the paper end to end (simulation
+# check, input design, estimation, the design <-> estimation loop and a
+# Monte-Carlo check), writing results/cart-pendulum/ with report.md and its
+# plots. SEEDS sets the Monte-Carlo size (default 100).
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 "$root/scripts/install-deps.sh"
 "$root/scripts/build.sh"
-build=${MO_BUILD_DIR:-$root/build}
-out=$root/results/cart-pendulum
-mkdir -p "$out"
-m=$root/modelica
-echo "main: flattening the cart-pendulum equation model"
-"$build/tools/mocompile" "$m/CartPendulum/CartPendulumODE.mo" --class CartPendulumODE -o "$out/CartPendulumODE.flat.mo"
-echo "main: flattening the component model built from MoLib"
-"$build/tools/mocompile" "$m/CartPendulum/CartPendulumComponents.mo" -L "$m/MoLib.mo" \
-  --class CartPendulumComponents -o "$out/CartPendulumComponents.flat.mo"
-echo "main: reading the Xcos flat form written by Scilab's modelicat"
-"$build/tools/mocompile" "$m/CartPendulum/CartPendulumComponents_flat.mo" -o "$out/CartPendulumComponents_xcos.flat.mo"
-echo "main: results in $out"
-ls -l "$out"
+"$root/scripts/cart-pendulum-study.sh" "${MO_BUILD_DIR:-$root/build}"

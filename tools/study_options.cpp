@@ -63,10 +63,12 @@ Value from_text(const std::string& raw) {
     const std::string body = s.substr(1, s.size() - 2);
     std::size_t start = 0;
     int depth = 0;
+    bool quoted = false;
     for (std::size_t i = 0; i <= body.size(); ++i) {
-      if (i < body.size() && body[i] == '{') ++depth;
-      if (i < body.size() && body[i] == '}') --depth;
-      if (i == body.size() || (body[i] == ',' && depth == 0)) {
+      if (i < body.size() && body[i] == '"') quoted = !quoted;
+      if (!quoted && i < body.size() && body[i] == '{') ++depth;
+      if (!quoted && i < body.size() && body[i] == '}') --depth;
+      if (i == body.size() || (body[i] == ',' && depth == 0 && !quoted)) {
         if (!trim(body.substr(start, i - start)).empty())
           v.items.push_back(from_text(body.substr(start, i - start)));
         start = i + 1;
