@@ -11,6 +11,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -36,9 +37,11 @@ struct Options {
 using mo::tools::library_files;
 
 /// Lowers, printing the stage trace for --emit trace, and appends the
-/// requested sensitivities; nullopt after printing the errors.
+/// requested sensitivities; nullopt after printing the errors, with `status`
+/// set to 1 (errors in the model) or 2 (an unknown --sensitivities name).
 std::optional<mo::symbolic::OdeModel> lowered(const flat::Model &model, DiagnosticEngine &diags,
-                                              const Options &opt) {
+                                              const Options &opt, int &status) {
+  status = 1;
   std::string trace;
   auto ode = mo::tools::lower_model(model, diags, opt.emit == "trace" ? &trace : nullptr);
   std::cout << trace;
@@ -48,6 +51,7 @@ std::optional<mo::symbolic::OdeModel> lowered(const flat::Model &model, Diagnost
   }
   if (auto error = mo::tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty()) {
     std::cerr << "mocompile: error: " << error << "\n";
+    status = 2;  // a command-line mistake, as in morun
     return std::nullopt;
   }
   return ode;
@@ -101,8 +105,9 @@ int run(const Options &opt) {
     if (opt.emit == "flat") {
       text = model->print();
     } else {
-      auto ode = lowered(*model, diags, opt);
-      if (!ode) return 1;
+      int status = 0;
+      auto ode = lowered(*model, diags, opt, status);
+      if (!ode) return status;
       if (opt.emit != "cpp") {
         text = mo::symbolic::print_ode(*ode);
       } else {
@@ -166,7 +171,12 @@ int main(int argc, char **argv) {
   app.add_flag("--no-balance-check", opt.no_balance_check,
                "Do not check that the model has as many equations as unknowns");
   app.add_option("--max-errors", opt.max_errors, "Stop listing errors after this many")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; every command-line mistake exits 2.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   if (!opt.sensitivities.empty() && (opt.emit == "flat" || opt.emit == "ast")) opt.emit = "ode";
   if (opt.emit == "cpp" && (opt.output.empty() || opt.output == "-")) {
     std::cerr << "mocompile: error: --emit cpp needs -o DIR\n";

@@ -125,7 +125,16 @@ int run(const Options& opt) {
     diags.print(std::cerr);
     return 1;
   }
-  if (flat->optimization) return tools::run_study(*flat, opt.study, diags);
+  if (flat->optimization) {
+    for (const auto& [given, flag] : {std::pair{opt.stop_time > 0, "--stop-time"},
+                                      {!opt.input_specs.empty(), "--input"},
+                                      {!opt.measure.empty(), "--measure"},
+                                      {!opt.sensitivities.empty(), "--sensitivities"}})
+      if (given)
+        std::cerr << "morun: warning: " << flag << " is for simulating a model; a study ignores it "
+                     "(use the study's options, --option name=value)\n";
+    return tools::run_study(*flat, opt.study, diags);
+  }
   if (opt.stop_time <= 0) throw UsageError("--stop-time is required to simulate a model");
   auto ode = tools::lower_model(*flat, diags);
   diags.print(std::cerr);
@@ -182,7 +191,8 @@ int main(int argc, char** argv) {
                  "Study: override a __mocompile option, name=value (repeatable), e.g. n_cp=1");
   app.add_option("--intervals", opt.intervals, "Output intervals")->capture_default_str()->check(CLI::PositiveNumber);
   app.add_option("--set", opt.sets, "Parameter value p=v (repeatable)");
-  app.add_option("--input", opt.input_specs, "Input signal u=sine:AMP,FREQ_HZ | u=csv:FILE | u=const:V (repeatable)");
+  app.add_option("--input", opt.input_specs, "Input signal u=sine:AMP,FREQ_HZ | step:HEIGHT,TIME | const:V | csv:FILE (interpolated) | "
+                 "pwc:FILE (piecewise constant) (repeatable)");
   app.add_option("--sensitivities", opt.sensitivities, "Parameters to compute forward sensitivities for")
       ->delimiter(',');
   app.add_option("-o,--output", opt.output, "Result directory")->capture_default_str();
@@ -197,7 +207,12 @@ int main(int argc, char** argv) {
   app.add_option("--seed", opt.seed, "Seed of the --noise generator")->capture_default_str();
   app.add_option("--rtol", opt.rtol, "Relative tolerance")->capture_default_str();
   app.add_option("--atol", opt.atol, "Absolute tolerance (scaled by nominal values)")->capture_default_str();
-  CLI11_PARSE(app, argc, argv);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version exit 0; every command-line mistake exits 2.
+    return app.exit(e) == 0 ? 0 : 2;
+  }
   opt.study.output = opt.output;
   opt.study.sets = opt.sets;
   opt.study.study_file = opt.source.file;

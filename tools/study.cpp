@@ -147,7 +147,7 @@ int report(const std::string& task, const runtime::OptimizationResult& r) {
                            r.timings.solve);
   if (!r.message.empty()) std::cerr << "morun: " << r.message << "\n";
   for (const auto& retry : r.retries) std::cerr << "morun: retried: " << retry << "\n";
-  if (r.check.performed)
+  if (r.check.performed && !r.check.worst_state.empty())
     std::cerr << fmt::format(
         "morun: re-simulated: largest state difference {:.3g} ({} at t = {:.3g}), largest bound "
         "violation {:.3g}{}\n",
