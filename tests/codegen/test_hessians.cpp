@@ -124,7 +124,8 @@ TEST_CASE("cart pendulum with m2 sensitivities: Hessians of f and h", "[hessian]
 
 namespace {
 
-runtime::EstimationProblem m2_estimation(runtime::Model& model, runtime::HessianMode mode) {
+runtime::EstimationProblem m2_estimation(runtime::Model& model, runtime::HessianMode mode,
+                                         double noise) {
   runtime::Inputs inputs;
   inputs.add(runtime::sine_input(3.0, 1.0));
   std::vector<double> grid{0.0};
@@ -140,8 +141,11 @@ runtime::EstimationProblem m2_estimation(runtime::Model& model, runtime::Hessian
   ex.data.sigma = {0.01, 0.01};
   ex.data.values.resize(200, 2);
   const auto x = sim.trajectory.column("y_x"), phi = sim.trajectory.column("y_phi");
+  std::mt19937 rng(7);
+  std::normal_distribution<double> e(0.0, noise > 0 ? noise : 1.0);
   for (int k = 0; k < 200; ++k)
-    ex.data.values(k, 0) = x[std::size_t(k) + 1], ex.data.values(k, 1) = phi[std::size_t(k) + 1];
+    ex.data.values(k, 0) = x[std::size_t(k) + 1] + (noise > 0 ? e(rng) : 0.0),
+    ex.data.values(k, 1) = phi[std::size_t(k) + 1] + (noise > 0 ? e(rng) : 0.0);
   runtime::EstimationProblem p;
   p.experiments = {std::move(ex)};
   p.parameters = {runtime::FreeParameter{2, {0.1, 2.0}, 0.5}};
@@ -155,20 +159,24 @@ runtime::EstimationProblem m2_estimation(runtime::Model& model, runtime::Hessian
 TEST_CASE("estimation of m2 on a generated model: exact Hessian agrees with limited memory",
           "[hessian][estimate]") {
   auto model = compiled("cart_pendulum", cart_pendulum);
-  runtime::EstimationResult r[2];
-  double seconds[2];
-  const runtime::HessianMode modes[2] = {runtime::HessianMode::exact, runtime::HessianMode::limited_memory};
-  for (int k = 0; k < 2; ++k) {
-    const auto start = std::chrono::steady_clock::now();
-    r[k] = runtime::estimate_parameters(*model, m2_estimation(*model, modes[k]));
-    seconds[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    INFO(r[k].message);  // HessianMode::exact fails (does not fall back) without model Hessians
-    REQUIRE(r[k].status == runtime::OptimizationStatus::success);
+  for (double noise : {0.0, 0.01}) {
+    runtime::EstimationResult r[2];
+    double seconds[2];
+    const runtime::HessianMode modes[2] = {runtime::HessianMode::exact,
+                                           runtime::HessianMode::limited_memory};
+    for (int k = 0; k < 2; ++k) {
+      const runtime::EstimationProblem problem = m2_estimation(*model, modes[k], noise);
+      const auto start = std::chrono::steady_clock::now();
+      r[k] = runtime::estimate_parameters(*model, problem);
+      seconds[k] = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+      INFO(r[k].message);  // HessianMode::exact fails (does not fall back) without model Hessians
+      REQUIRE(r[k].status == runtime::OptimizationStatus::success);
+    }
+    std::cout << "generated cart pendulum, m2 (noise " << noise << ", n_e=100, n_cp=3): exact Hessian "
+              << r[0].iterations << " iterations, " << seconds[0] << " s; limited memory "
+              << r[1].iterations << " iterations, " << seconds[1] << " s; m2 " << r[0].estimate[0]
+              << " / " << r[1].estimate[0] << "\n";
+    CHECK(r[0].estimate[0] == Approx(1.0).margin(noise > 0 ? 0.05 : 1e-4));
+    CHECK(r[0].estimate[0] == Approx(r[1].estimate[0]).margin(1e-5));
   }
-  std::cout << "generated cart pendulum, m2 (n_e=100, n_cp=3): exact Hessian " << r[0].iterations
-            << " iterations, " << seconds[0] << " s; limited memory " << r[1].iterations
-            << " iterations, " << seconds[1] << " s\n";
-  CHECK(r[0].estimate[0] == Approx(1.0).margin(1e-4));
-  CHECK(r[0].estimate[0] == Approx(r[1].estimate[0]).margin(1e-5));
-  CHECK(r[0].chi_square < 1e-4);
 }
