@@ -71,10 +71,11 @@ Derivatives build_derivatives(symbolic::OdeModel& m) {
   return d;
 }
 
-std::vector<std::vector<int>> row_columns(const ExprArena& a, const Derivatives& d,
-                                          const std::vector<Expr>& rows) {
+std::vector<std::vector<int>> seed_columns(const ExprArena& a, const std::vector<Expr>& seeds,
+                                           const std::vector<const std::vector<symbolic::Step>*>& steps,
+                                           const std::vector<Expr>& rows) {
   std::unordered_map<Expr, Columns> deps;
-  for (std::size_t k = 0; k < d.seeds.size(); ++k) deps[d.seeds[k]] = {static_cast<int>(k)};
+  for (std::size_t k = 0; k < seeds.size(); ++k) deps[seeds[k]] = {static_cast<int>(k)};
   auto columns_of = [&](std::span<const Expr> roots, const std::vector<Expr>& except) {
     Columns out;
     for (Expr leaf : symbolic::leaves(a, roots)) {
@@ -83,19 +84,82 @@ std::vector<std::vector<int>> row_columns(const ExprArena& a, const Derivatives&
     }
     return out;
   };
-  for (const symbolic::Step& s : d.directional.steps) {
-    if (const auto* as = std::get_if<symbolic::Assignment>(&s)) {
-      deps[as->target] = columns_of(std::span(&as->value, 1), {});
-      continue;
+  for (const auto* list : steps)
+    for (const symbolic::Step& s : *list) {
+      if (const auto* as = std::get_if<symbolic::Assignment>(&s)) {
+        deps[as->target] = columns_of(std::span(&as->value, 1), {});
+        continue;
+      }
+      const auto& b = std::get<symbolic::EquationBlock>(s);
+      const Columns c = columns_of(b.residuals, b.unknowns);
+      for (Expr z : b.unknowns) deps[z] = c;
     }
-    const auto& b = std::get<symbolic::EquationBlock>(s);
-    const Columns c = columns_of(b.residuals, b.unknowns);
-    for (Expr z : b.unknowns) deps[z] = c;
-  }
   std::vector<Columns> out;
   out.reserve(rows.size());
   for (Expr r : rows) out.push_back(r.valid() ? columns_of(std::span(&r, 1), {}) : Columns{});
   return out;
+}
+
+std::vector<std::vector<int>> row_columns(const ExprArena& a, const Derivatives& d,
+                                          const std::vector<Expr>& rows) {
+  return seed_columns(a, d.seeds, {&d.directional.steps}, rows);
+}
+
+SecondDerivatives build_second_derivatives(symbolic::OdeModel& m, const Derivatives& first) {
+  ExprArena& a = m.arena;
+  SecondDerivatives d;
+  symbolic::ExprMap seeds;
+  for (std::size_t i = 0; i < m.states.size(); ++i) {
+    d.seeds.push_back(seed(a, "x2", i));
+    seeds[m.states[i].symbol] = d.seeds.back();
+  }
+  for (std::size_t i = 0; i < m.inputs.size(); ++i) {
+    d.seeds.push_back(seed(a, "u2", i));
+    seeds[m.inputs[i].symbol] = d.seeds.back();
+  }
+  for (std::size_t i = 0; i < m.parameters.size(); ++i) {
+    d.seeds.push_back(seed(a, "p2", i));
+    seeds[m.parameters[i].symbol] = d.seeds.back();
+  }
+  // The model extended by the first-order steps and symbols, differentiated
+  // along τ; the σ seeds are leaves with derivative 0. Restored afterwards.
+  std::vector<symbolic::Step> base_steps = m.steps;
+  const std::size_t base_algebraics = m.algebraics.size();
+  m.steps.insert(m.steps.end(), first.directional.steps.begin(), first.directional.steps.end());
+  m.algebraics.insert(m.algebraics.end(), first.directional.symbols.begin(),
+                      first.directional.symbols.end());
+  try {
+    d.directional = symbolic::differentiate_steps(m, seeds, [&](const std::string& v) {
+      return unused_name(a, "$hvp(" + v + ")");
+    });
+  } catch (...) {
+    m.steps = std::move(base_steps);
+    m.algebraics.resize(base_algebraics);
+    throw;
+  }
+  m.steps = std::move(base_steps);
+  m.algebraics.resize(base_algebraics);
+  auto second = [&](const std::vector<Expr>& rows) {
+    std::vector<Expr> present;
+    for (Expr r : rows)
+      if (r.valid()) present.push_back(r);
+    const std::vector<Expr> derived =  // one call for all rows: linear in model size
+        symbolic::forward_derivative(a, present, d.directional.derivative, false);
+    std::vector<Expr> out;
+    std::size_t k = 0;
+    for (Expr r : rows) {
+      Expr e;
+      if (r.valid()) {
+        e = derived[k++];
+        if (a.is_constant(e, 0.0)) e = Expr();
+      }
+      out.push_back(e);
+    }
+    return out;
+  };
+  d.f_rows = second(first.f_rows);
+  d.h_rows = second(first.h_rows);
+  return d;
 }
 
 void pattern_and_colouring(const std::vector<std::vector<int>>& rows, int first, int count,

@@ -23,6 +23,27 @@ struct Derivatives {
 /// Builds the derivatives in model.arena.
 Derivatives build_derivatives(symbolic::OdeModel& model);
 
+/// Second directional derivatives D²f[σ, τ]: the base steps followed by the
+/// Jacobian-vector product steps, differentiated again along a second seed
+/// vector τ (forward over forward; blocks become linear blocks with the
+/// block's own Jacobian again).
+struct SecondDerivatives {
+  std::vector<symbolic::Expr> seeds;  ///< τx (nx), then τu (nu), then τp (np)
+  symbolic::Directional directional;  ///< τ-derivatives of base and first-order targets
+  std::vector<symbolic::Expr> f_rows;  ///< D² der(x_i)[σ, τ]; invalid handle if structurally zero
+  std::vector<symbolic::Expr> h_rows;  ///< D² y_j[σ, τ]
+};
+
+/// Builds the second derivatives in model.arena from the first ones.
+SecondDerivatives build_second_derivatives(symbolic::OdeModel& model, const Derivatives& first);
+
+/// The seed columns each row depends on: `seeds[k]` is column k; dependencies
+/// are propagated through `steps` (each list in order, lists in order).
+std::vector<std::vector<int>> seed_columns(const symbolic::ExprArena& arena,
+                                           const std::vector<symbolic::Expr>& seeds,
+                                           const std::vector<const std::vector<symbolic::Step>*>& steps,
+                                           const std::vector<symbolic::Expr>& rows);
+
 /// The seed columns (0 .. nx+nu+np-1) each row depends on, ascending: the
 /// structural pattern propagated through the differentiated steps.
 std::vector<std::vector<int>> row_columns(const symbolic::ExprArena& arena, const Derivatives& d,

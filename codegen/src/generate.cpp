@@ -172,6 +172,56 @@ std::string jacobian_tables(const Program& p) {
   return out + list + "};\n\n";
 }
 
+std::string hessian_tables(const Program& p) {
+  std::string out = fmt::format("constexpr std::size_t sigma_slot = {}, tau_slot = {};\n", p.layout.seeds_x,
+                                p.layout.seeds2);
+  std::string list = "const HessianTables hessian_tables[2] = {\n";
+  for (std::size_t k = 0; k < 2; ++k) {
+    const HessianCode& h = p.hessians[k];
+    const std::string n = fmt::format("hess{}", k);
+    std::vector<int> colour_start{0}, colour_columns, sigma, tau, entry_start{0}, weight, index;
+    std::vector<Slot> slot;
+    for (const auto& colour : h.colours) {
+      colour_columns.insert(colour_columns.end(), colour.begin(), colour.end());
+      colour_start.push_back(static_cast<int>(colour_columns.size()));
+    }
+    for (const auto& pr : h.products) {
+      sigma.push_back(pr.sigma_colour);
+      tau.push_back(pr.tau_colour);
+      for (const auto& e : pr.entries) {
+        weight.push_back(e.weight);
+        slot.push_back(e.slot);
+        index.push_back(e.index);
+      }
+      entry_start.push_back(static_cast<int>(weight.size()));
+    }
+    auto ints = [&](const std::string& suffix, const std::vector<int>& v) {
+      out += array("int", n + "_" + suffix, v, [](int x) { return std::to_string(x); });
+    };
+    ints("col_start", h.col_start);
+    ints("row_index", h.row_index);
+    ints("colour_start", colour_start);
+    ints("colour_columns", colour_columns);
+    ints("sigma", sigma);
+    ints("tau", tau);
+    ints("entry_start", entry_start);
+    ints("entry_weight", weight);
+    out += slot_array(n + "_entry_slot", slot);
+    ints("entry_index", index);
+    std::vector<std::string> base, product;
+    for (int s : h.base_sections) base.push_back(fmt::format("section_{}", s));
+    for (int s : h.product_sections) product.push_back(fmt::format("section_{}", s));
+    out += array("SectionFunction", n + "_base", base, [](const std::string& s) { return s; });
+    out += array("SectionFunction", n + "_product", product, [](const std::string& s) { return s; });
+    list += fmt::format(
+        "  {{{1}, {0}_col_start, {0}_row_index, {0}_colour_start, {0}_colour_columns, {2}, {0}_sigma, "
+        "{0}_tau, {0}_entry_start, {0}_entry_weight, {0}_entry_slot, {0}_entry_index, {0}_base, {3}, "
+        "{0}_product, {4}}},\n",
+        n, h.n, h.products.size(), base.size(), product.size());
+  }
+  return out + list + "};\n\n";
+}
+
 std::string when_tables(const Program& p) {
   std::string out;
   std::vector<int> assign_start{0}, assign_target, assign_value, reinit_start{0}, reinit_state,
@@ -322,7 +372,26 @@ GeneratedSources generate_cpp(OdeModel& model, const CodegenOptions& options) {
   std::size_t num_product;
 };
 
-)" + jacobian_tables(program) +
+struct HessianTables {
+  int n;
+  const int* col_start;
+  const int* row_index;
+  const int* colour_start;
+  const int* colour_columns;
+  std::size_t products;
+  const int* sigma;
+  const int* tau;
+  const int* entry_start;
+  const int* entry_weight;
+  const int* entry_slot;
+  const int* entry_index;
+  const SectionFunction* base;
+  std::size_t num_base;
+  const SectionFunction* product;
+  std::size_t num_product;
+};
+
+)" + jacobian_tables(program) + hessian_tables(program) +
           when_tables(program) + detail::model_class + fmt::format(R"(
 }}  // namespace
 

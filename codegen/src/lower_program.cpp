@@ -1,4 +1,6 @@
 // OdeModel → Program: sections in the order the printed methods run them.
+#include <algorithm>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 
@@ -90,6 +92,7 @@ public:
     for (const auto& d : m_.discrete) pre_discrete_.push_back(m_.arena.pre(d.symbol));
     relations_ = match_relations(m_);
     derivatives_ = detail::build_derivatives(m_);
+    second_ = detail::build_second_derivatives(m_, derivatives_);
     // The arena is complete from here on.
     slots_.emplace(m_.arena.size());
     layout();
@@ -133,6 +136,8 @@ private:
     for (Expr e : s) slots_->of(e);
     p_.layout.seeds_u = p_.layout.seeds_x + static_cast<Slot>(m_.states.size());
     p_.layout.seeds_p = p_.layout.seeds_u + static_cast<Slot>(m_.inputs.size());
+    p_.layout.seeds2 = slots_->count();
+    for (Expr e : second_.seeds) slots_->of(e);
   }
 
   void steps() {
@@ -290,6 +295,115 @@ private:
       code.base_sections = sp.base;
       code.product_sections = sp.product;
     }
+    hessians(jvp_steps, jvp_outputs, b.valid(), bo.valid());
+  }
+
+  /// Sections of D²f and D²h, the Hessian patterns, colourings and products.
+  void hessians(int jvp_steps, int jvp_outputs, const detail::Validity& after_jvp_steps,
+                const detail::Validity& after_jvp_outputs) {
+    const auto& d = derivatives_;
+    const auto& s2 = second_;
+    int hess_steps = -1, hess_outputs = -1;
+    new_section("hessian_steps", hess_steps);
+    auto b = builder(after_jvp_steps);
+    std::size_t number = 0;
+    for (const auto& step : s2.directional.steps) {
+      Section& s = p_.sections[static_cast<std::size_t>(hess_steps)];
+      if (const auto* as = std::get_if<symbolic::Assignment>(&step)) {
+        b.assign(slots_->of(as->target), as->value, s);
+        continue;
+      }
+      b.block(std::get<symbolic::EquationBlock>(step),
+              "second-order derivative block " + std::to_string(++number), s);
+    }
+    auto row_slots = [&](auto& bld, int section, const std::vector<Expr>& rows) {
+      std::vector<Slot> out;
+      for (Expr r : rows)
+        out.push_back(r.valid() ? bld.root(r, p_.sections[static_cast<std::size_t>(section)]) : 0);
+      return out;
+    };
+    const std::vector<Slot> f_slots = row_slots(b, hess_steps, s2.f_rows);
+    detail::Validity both = b.valid();
+    for (std::size_t k = 0; k < both.size() && k < after_jvp_outputs.size(); ++k)
+      both[k] = static_cast<std::uint8_t>(both[k] | after_jvp_outputs[k]);
+    new_section("hessian_outputs", hess_outputs);
+    auto bo = builder(both);
+    const std::vector<Slot> h_slots = row_slots(bo, hess_outputs, s2.h_rows);
+    // Columns each second-order row depends on through σ and through τ; a
+    // nonzero T_i(a, b) = T_i(b, a) needs a and b in both sets.
+    const std::vector<const std::vector<symbolic::Step>*> sigma_steps{&d.directional.steps,
+                                                                       &s2.directional.steps};
+    const std::vector<const std::vector<symbolic::Step>*> tau_steps{&s2.directional.steps};
+    auto columns = [&](const std::vector<Expr>& rows) {
+      auto sigma = detail::seed_columns(arena(), d.seeds, sigma_steps, rows);
+      const auto tau = detail::seed_columns(arena(), s2.seeds, tau_steps, rows);
+      for (std::size_t i = 0; i < rows.size(); ++i) {
+        std::vector<int> both_sets;
+        std::set_intersection(sigma[i].begin(), sigma[i].end(), tau[i].begin(), tau[i].end(),
+                              std::back_inserter(both_sets));
+        sigma[i] = std::move(both_sets);
+      }
+      return sigma;
+    };
+    hessian_code(columns(s2.f_rows), f_slots, p_.hessians[0]);
+    hessian_code(columns(s2.h_rows), h_slots, p_.hessians[1]);
+    p_.hessians[0].base_sections = {p_.steps};
+    p_.hessians[0].product_sections = {jvp_steps, hess_steps};
+    p_.hessians[1].base_sections = {p_.steps};
+    p_.hessians[1].product_sections = {jvp_steps, jvp_outputs, hess_steps, hess_outputs};
+  }
+
+  void hessian_code(const std::vector<std::vector<int>>& rows, const std::vector<Slot>& slots,
+                    HessianCode& code) {
+    const int n = static_cast<int>(d_size());
+    code.n = n;
+    std::vector<std::vector<int>> col_rows(static_cast<std::size_t>(n));  // lower triangle
+    for (const auto& cs : rows)
+      for (std::size_t x = 0; x < cs.size(); ++x)
+        for (std::size_t y = x; y < cs.size(); ++y)  // cs ascending: cs[y] >= cs[x]
+          col_rows[static_cast<std::size_t>(cs[x])].push_back(cs[y]);
+    code.col_start.assign(1, 0);
+    code.row_index.clear();
+    for (auto& rs : col_rows) {
+      std::sort(rs.begin(), rs.end());
+      rs.erase(std::unique(rs.begin(), rs.end()), rs.end());
+      code.row_index.insert(code.row_index.end(), rs.begin(), rs.end());
+      code.col_start.push_back(static_cast<int>(code.row_index.size()));
+    }
+    auto find = [&](int r, int c) {
+      const auto first = code.row_index.begin() + code.col_start[static_cast<std::size_t>(c)];
+      const auto last = code.row_index.begin() + code.col_start[static_cast<std::size_t>(c) + 1];
+      const auto it = std::lower_bound(first, last, r);
+      if (it == last || *it != r) throw std::logic_error("internal error: Hessian entry outside its pattern");
+      return static_cast<int>(it - code.row_index.begin());
+    };
+    // A colouring in which a row's second-order columns have distinct colours.
+    JacobianCode colouring;
+    detail::pattern_and_colouring(rows, 0, n, colouring);
+    code.colours = colouring.colours;
+    std::vector<int> colour(static_cast<std::size_t>(n), -1);
+    for (std::size_t k = 0; k < code.colours.size(); ++k)
+      for (int c : code.colours[k]) colour[static_cast<std::size_t>(c)] = static_cast<int>(k);
+    const int nc = static_cast<int>(code.colours.size());
+    code.products.clear();
+    for (int A = 0; A < nc; ++A)
+      for (int B = A; B < nc; ++B) {
+        HessianCode::Product pr{A, B, {}};
+        for (std::size_t i = 0; i < rows.size(); ++i) {
+          int a = -1, bcol = -1;
+          for (int c : rows[i]) {
+            if (colour[static_cast<std::size_t>(c)] == A) a = c;
+            if (colour[static_cast<std::size_t>(c)] == B) bcol = c;
+          }
+          if (a < 0 || bcol < 0) continue;
+          pr.entries.push_back({static_cast<int>(i), slots[i], find(std::max(a, bcol), std::min(a, bcol))});
+        }
+        if (!pr.entries.empty()) code.products.push_back(std::move(pr));
+      }
+  }
+
+  std::size_t d_size() const {
+    return m_.states.size() + m_.inputs.size() + m_.parameters.size();
   }
 
   OdeModel& m_;
@@ -298,6 +412,7 @@ private:
   std::vector<Expr> pre_discrete_;
   std::vector<RelationOnCrossing> relations_;
   detail::Derivatives derivatives_;
+  detail::SecondDerivatives second_;
   detail::Validity after_steps_, after_starts_;
 };
 

@@ -26,6 +26,20 @@ const std::array<mo::runtime::Sparsity, 7>& sparsities() {
   return patterns;
 }
 
+const std::array<mo::runtime::Sparsity, 2>& hessian_sparsities() {
+  static const std::array<mo::runtime::Sparsity, 2> patterns = [] {
+    std::array<mo::runtime::Sparsity, 2> s;
+    for (std::size_t k = 0; k < 2; ++k) {
+      const HessianTables& h = hessian_tables[k];
+      s[k].rows = s[k].cols = h.n;
+      s[k].col_start.assign(h.col_start, h.col_start + h.n + 1);
+      s[k].row_index.assign(h.row_index, h.row_index + h.col_start[h.n]);
+    }
+    return s;
+  }();
+  return patterns;
+}
+
 class GeneratedModel final : public mo::runtime::Model {
 public:
   GeneratedModel() : w_(num_slots, 0.0), cross_(ng, 0), reversed_(ng, 0), before_(nwhen, 0.0),
@@ -82,6 +96,38 @@ public:
       for (int e = j.entry_start[c]; e < j.entry_start[c + 1]; ++e)
         values[static_cast<std::size_t>(j.entry_index[e])] = w[j.entry_slot[e]];
       for (int k = j.colour_start[c]; k < j.colour_start[c + 1]; ++k) w[j.seeds[k]] = 0.0;
+    }
+  }
+
+  bool provides_hessian(mo::runtime::Hessian) const override { return true; }
+  const mo::runtime::Sparsity& hessian_sparsity(mo::runtime::Hessian which) const override {
+    return hessian_sparsities()[static_cast<std::size_t>(which)];
+  }
+
+  // Values by second directional derivatives: σ seeds one colour, τ another
+  // (or the same); each row's second derivative is then one entry of that
+  // row's Hessian, added with its weight.
+  void hessian_values(mo::runtime::Hessian which, double t, std::span<const double> x,
+                      std::span<const double> u, std::span<const double> p,
+                      std::span<const double> weights, std::span<double> values) override {
+    const HessianTables& h = hessian_tables[static_cast<std::size_t>(which)];
+    load(t, x, u, p);
+    double* w = w_.data();
+    std::fill(values.begin(), values.begin() + h.col_start[h.n], 0.0);
+    for (std::size_t k = 0; k < h.num_base; ++k) h.base[k](w, nullptr, ws_);
+    auto seed = [&](std::size_t first, int colour, double value) {
+      for (int c = h.colour_start[colour]; c < h.colour_start[colour + 1]; ++c)
+        w[first + static_cast<std::size_t>(h.colour_columns[c])] = value;
+    };
+    for (std::size_t q = 0; q < h.products; ++q) {
+      seed(sigma_slot, h.sigma[q], 1.0);
+      seed(tau_slot, h.tau[q], 1.0);
+      for (std::size_t k = 0; k < h.num_product; ++k) h.product[k](w, nullptr, ws_);
+      for (int e = h.entry_start[q]; e < h.entry_start[q + 1]; ++e)
+        values[static_cast<std::size_t>(h.entry_index[e])] +=
+            weights[static_cast<std::size_t>(h.entry_weight[e])] * w[h.entry_slot[e]];
+      seed(sigma_slot, h.sigma[q], 0.0);
+      seed(tau_slot, h.tau[q], 0.0);
     }
   }
 

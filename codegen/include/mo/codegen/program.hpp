@@ -83,6 +83,30 @@ struct JacobianCode {
   std::vector<int> product_sections;  ///< run once per colour
 };
 
+/// One Hessian ∇²_z(λᵀf) or ∇²_z(μᵀh), lower triangle, z = (x, u, p).
+/// Values come from second directional derivatives D²f_i[σ, τ] with σ and τ
+/// the sums of the unit vectors of two colours A ≤ B of a column colouring in
+/// which no row's second-order columns share a colour: each row's value is
+/// then one tensor entry T_i(a, b), accumulated with weight λ_i.
+struct HessianCode {
+  int n = 0;                   ///< nx + nu + np
+  std::vector<int> col_start;  ///< CSC of the lower triangle, size n + 1
+  std::vector<int> row_index;  ///< ascending per column
+  std::vector<std::vector<int>> colours;  ///< columns of z seeded together
+  struct Entry {
+    int weight;  ///< row i: multiplier λ_i (μ_i)
+    Slot slot;   ///< slot of D² row i after the product sections
+    int index;   ///< Hessian entry the value is added to
+  };
+  struct Product {
+    int sigma_colour, tau_colour;  ///< colours seeded in σ and in τ
+    std::vector<Entry> entries;
+  };
+  std::vector<Product> products;     ///< one product run each
+  std::vector<int> base_sections;    ///< run once
+  std::vector<int> product_sections;  ///< run per product
+};
+
 /// A when-clause as slots.
 struct WhenCode {
   int section = -1;  ///< computes the values of assignments and reinits
@@ -94,6 +118,7 @@ struct WhenCode {
 struct SlotLayout {
   Slot states = 0, inputs = 0, parameters = 0, time = 0, discrete = 0, pre_discrete = 0;
   Slot seeds_x = 0, seeds_u = 0, seeds_p = 0;
+  Slot seeds2 = 0;  ///< second seeds τ (x, u, p), nx + nu + np slots
 };
 
 /// The whole model as sections over one work array.
@@ -116,6 +141,7 @@ struct Program {
   std::vector<std::pair<Slot, Slot>> pre_copies;  ///< (pre(v) slot, v slot) of non-discrete v
   std::vector<WhenCode> whens;
   std::array<JacobianCode, 7> jacobians;  ///< in mo::runtime::Jacobian order
+  std::array<HessianCode, 2> hessians;    ///< in mo::runtime::Hessian order (f, h)
   std::vector<double> start_values;       ///< x0 at the default parameters
   std::vector<std::size_t> newton_blocks; ///< indices of nonlinear blocks (their unknowns reset at start)
 };
