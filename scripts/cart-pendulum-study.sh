@@ -21,6 +21,7 @@ out=${MO_RESULTS:-$root/results/cart-pendulum}
 seeds=${SEEDS:-100}
 log=$out/logs
 mkdir -p "$out" "$log"
+exec > >(tee "$log/study.log") 2>&1
 started=$(date +%s)
 
 step() { echo "== $* ($(( $(date +%s) - started )) s)"; }
