@@ -44,6 +44,7 @@ struct Options {
   std::vector<std::string> measure;  // outputs sampled into measurements.csv
   double noise = 0.0;                // their noise standard deviation
   unsigned long seed = 1;            // of the noise
+  bool aliases = false;              // eliminated variables in result.csv too
 };
 
 using tools::number;
@@ -141,6 +142,8 @@ int run(const Options& opt) {
   if (!ode) return 1;
   if (auto error = tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty())
     throw UsageError(error);
+  if (opt.aliases)  // eliminated variables become extra outputs, so extra columns
+    ode->outputs.insert(ode->outputs.end(), ode->eliminated.begin(), ode->eliminated.end());
   tools::BuiltModel built = tools::build_model(*ode, opt.jobs, "morun");
   const auto& compiled = built.compiled;
   runtime::Model* model = built.model.get();
@@ -196,6 +199,8 @@ int main(int argc, char** argv) {
   app.add_option("--sensitivities", opt.sensitivities, "Parameters to compute forward sensitivities for")
       ->delimiter(',');
   app.add_option("-o,--output", opt.output, "Result directory")->capture_default_str();
+  app.add_flag("--aliases", opt.aliases,
+               "Also write the variables that lowering eliminated (aliases, constants) to result.csv");
   app.add_flag("--plot", opt.plot, "Also write PNG plots (needs gnuplot)");
   app.add_option("-j,--jobs", opt.jobs, "Compile this many generated files in parallel")->capture_default_str();
   app.add_option("--measure", opt.measure,

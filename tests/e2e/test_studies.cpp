@@ -107,6 +107,10 @@ TEST_CASE("studies: reduced cart-pendulum design, estimation and Monte Carlo") {
   REQUIRE(r.status == 0);
   const json cases = summary(mc)["cases"];
   REQUIRE(cases.size() == 2);
+  // The designed input is worth more than the paper's sine: a smaller
+  // Cramér–Rao bound on the same 200 samples.
+  CHECK(cases[0]["parameters"][0]["cramer_rao"].get<double>() <
+        cases[1]["parameters"][0]["cramer_rao"].get<double>());
   for (const auto& c : cases) {
     CHECK(c["runs"] == 4);
     const auto& p = c["parameters"][0];
@@ -128,4 +132,41 @@ TEST_CASE("studies: unknown or ill-typed options are errors") {
             dir);
   CHECK(r.status == 1);
   CHECK_THAT(r.err, Catch::Contains("BadOption.mop:11:24: error: study option 'criterion' expects one of"));
+}
+
+TEST_CASE("studies: Ipopt's second-order derivative checker finds no errors in the generated NLPs") {
+  const fs::path dir = scratch("study_derivative_check");
+  const std::string check = " --option hessian=exact --option " +
+                            quoted("ipopt_options={\"derivative_test=second-order\"}") +
+                            " --option max_iter=3";
+  // Optimal control on a .mop and estimation on the cart-pendulum (exact Hessians).
+  Run r = morun(quoted(std::string(MO_TEST_DATA_DIR) + "/DoubleIntegrator.mop") + " -o " +
+                    quoted((dir / "mop").string()) + check,
+                dir);
+  INFO(r.err);
+  const std::string mop_log = slurp(dir / "mop" / "ipopt.log");
+  CHECK_THAT(mop_log, Catch::Contains("No errors detected by derivative checker"));
+
+  const fs::path data = dir / "data";
+  r = morun(kOde + " -c CartPendulumODE --stop-time 2 --intervals 50 --measure y_x,y_phi --noise 0.01 "
+                   "--input F=sine:3,1 -o " + quoted(data.string()),
+            dir);
+  REQUIRE(r.status == 0);
+  r = morun(quoted(kCart + "CartPendulumEstimate.opt") + " -L " + kOde + " -o " +
+                quoted((dir / "est").string()) + check + " --option n_e=20 --option " +
+                quoted("data={\"" + (data / "measurements.csv").string() + "\"}") +
+                " --option " + quoted("inputs={\"F=sine:3,1\"}"),
+            dir);
+  INFO(r.err);
+  // The second-order check (Hessian against differences of the gradient and
+  // constraint Jacobian) must be clean. The first-order check of the least-
+  // squares objective flags 2 of 325 gradient entries at 1e-4..1e-2 relative,
+  // and the finite-difference value moves with the perturbation (1e-8 vs
+  // 1e-6) by more than the difference: open, see the session note.
+  const std::string log = slurp(dir / "est" / "ipopt.log");
+  const auto second = log.find("Starting derivative checker for second derivatives.");
+  REQUIRE(second != std::string::npos);
+  const std::string hessian_part = log.substr(second, log.find("Number of nonzeros", second) - second);
+  INFO(hessian_part);
+  CHECK(hessian_part.find("\n* ") == std::string::npos);
 }
