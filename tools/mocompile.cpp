@@ -49,6 +49,7 @@ std::optional<mo::symbolic::OdeModel> lowered(const flat::Model &model, Diagnost
     diags.print(std::cerr);
     return std::nullopt;
   }
+  mo::tools::expose_start_parameters(*ode, opt.sensitivities);  // x.start
   if (auto error = mo::tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty()) {
     std::cerr << "mocompile: error: " << error << "\n";
     status = 2;  // a command-line mistake, as in morun

@@ -140,6 +140,8 @@ int run(const Options& opt) {
   auto ode = tools::lower_model(*flat, diags);
   diags.print(std::cerr);
   if (!ode) return 1;
+  tools::expose_start_parameters(*ode, opt.sets);  // --set x.start=v
+  tools::expose_start_parameters(*ode, opt.sensitivities);
   if (auto error = tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty())
     throw UsageError(error);
   if (opt.aliases)  // eliminated variables become extra outputs, so extra columns
@@ -193,10 +195,12 @@ int main(int argc, char** argv) {
   app.add_option("--option", opt.study.overrides_text,
                  "Study: override a __mocompile option, name=value (repeatable), e.g. n_cp=1");
   app.add_option("--intervals", opt.intervals, "Output intervals")->capture_default_str()->check(CLI::PositiveNumber);
-  app.add_option("--set", opt.sets, "Parameter value p=v (repeatable)");
+  app.add_option("--set", opt.sets,
+                 "Parameter value p=v, or a state's start value x.start=v (repeatable)");
   app.add_option("--input", opt.input_specs, "Input signal u=sine:AMP,FREQ_HZ | step:HEIGHT,TIME | const:V | csv:FILE (interpolated) | "
                  "pwc:FILE (piecewise constant) (repeatable)");
-  app.add_option("--sensitivities", opt.sensitivities, "Parameters to compute forward sensitivities for")
+  app.add_option("--sensitivities", opt.sensitivities,
+                 "Parameters (or x.start for a state's start value) to compute forward sensitivities for")
       ->delimiter(',');
   app.add_option("-o,--output", opt.output, "Result directory")->capture_default_str();
   app.add_flag("--aliases", opt.aliases,

@@ -9,6 +9,7 @@
 #include "mo/frontend/parser.hpp"
 #include "mo/symbolic/sensitivities.hpp"
 
+#include "mo/symbolic/evaluator.hpp"
 #include "mo/symbolic/lower.hpp"
 
 namespace fs = std::filesystem;
@@ -60,6 +61,28 @@ std::optional<symbolic::OdeModel> lower_model(const frontend::flat::Model& flat,
   symbolic::LowerOptions options;
   options.trace = trace;
   return symbolic::lower(flat, diags, options);
+}
+
+void expose_start_parameters(symbolic::OdeModel& model, const std::vector<std::string>& names) {
+  for (const std::string& raw : names) {
+    const std::string name = raw.substr(0, raw.find('='));
+    if (!name.ends_with(".start") || model.parameter_index(name)) continue;
+    const auto x = model.state_index(name.substr(0, name.size() - 6));
+    if (!x) continue;
+    symbolic::LeafValues defaults;
+    for (const auto& p : model.parameters) defaults[p.symbol] = p.value;
+    symbolic::OdeState& state = model.states[*x];
+    const double value = symbolic::evaluate(model.arena, std::span(&state.start, 1), defaults)[0];
+    symbolic::OdeParameter p;
+    p.info.name = name;
+    p.info.description = "start value of " + state.info.name;
+    p.info.unit = state.info.unit;
+    p.value = value;
+    p.symbol = model.arena.symbol(name, symbolic::SymbolRole::Parameter,
+                                  static_cast<std::int32_t>(model.parameters.size()));
+    state.start = p.symbol;
+    model.parameters.push_back(std::move(p));
+  }
 }
 
 std::string add_named_sensitivities(symbolic::OdeModel& model, const std::vector<std::string>& names) {

@@ -40,6 +40,12 @@ std::optional<symbolic::OdeModel> lower_model(const frontend::flat::Model& flat,
                                               frontend::DiagnosticEngine& diags,
                                               std::string* trace = nullptr);
 
+/// For every name "x.start" in `names` where x is a state and "x.start" is not
+/// already a parameter: makes x's start value a new parameter of that name
+/// (default: the start value at the default parameters), so that --set and
+/// --sensitivities reach initial conditions. Names without ".start" are ignored.
+void expose_start_parameters(symbolic::OdeModel& model, const std::vector<std::string>& names);
+
 /// Appends forward sensitivities for the named parameters. Returns an error
 /// message naming an unknown parameter, or empty on success.
 std::string add_named_sensitivities(symbolic::OdeModel& model, const std::vector<std::string>& names);

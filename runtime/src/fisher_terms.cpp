@@ -56,12 +56,19 @@ FisherEvaluator::FisherEvaluator(const CollocationNlp& nlp, MeasurementDesign me
       for (std::size_t j = 0; j < parameters_.size(); ++j)
         if (of->parameter == parameters_[j] && of->state < base_states_)
           sensitivity_state_[of->state][j] = int(s);
+  // Missing S(i, j) are structurally zero (the compiler emits only nonzero
+  // ones); a parameter without any sensitivity state is an error.
   for (std::size_t s = 0; s < base_states_; ++s)
-    for (std::size_t j = 0; j < parameters_.size(); ++j)
-      if (sensitivity_state_[s][j] < 0 || info.states[s].sensitivity)
-        throw ProblemError("the model has no sensitivity state d(" + info.states[s].name + ")/d(" +
-                           info.parameters.at(parameters_[j]).name +
-                           ") (base states must come first)");
+    if (info.states[s].sensitivity)
+      throw ProblemError("sensitivity state " + info.states[s].name +
+                         " among the base states (base states must come first)");
+  for (std::size_t j = 0; j < parameters_.size(); ++j) {
+    bool any = false;
+    for (std::size_t s = 0; s < base_states_; ++s) any = any || sensitivity_state_[s][j] >= 0;
+    if (!any)
+      throw ProblemError("the model has no sensitivity states for parameter " +
+                         info.parameters.at(parameters_[j]).name);
+  }
   const ExperimentSetup& ex = nlp.experiment(0);
   std::set<int> vars;
   for (double t : m_.times) {
@@ -85,7 +92,10 @@ FisherEvaluator::Sample FisherEvaluator::evaluate(CollocationNlp& nlp, std::span
              nm = Eigen::Index(m_.outputs.size());
   s.s_x.resize(nb, nj);
   for (Eigen::Index i = 0; i < nb; ++i)
-    for (Eigen::Index j = 0; j < nj; ++j) s.s_x(i, j) = s.x[std::size_t(sensitivity_state_[i][j])];
+    for (Eigen::Index j = 0; j < nj; ++j) {
+      const int k = sensitivity_state_[std::size_t(i)][std::size_t(j)];
+      s.s_x(i, j) = k < 0 ? 0.0 : s.x[std::size_t(k)];  // missing: structurally zero
+    }
   Model& model = nlp.model(pt.experiment);
   Eigen::MatrixXd hx = dense_jacobian(model, Jacobian::h_x, pt.time, s.x, s.u, s.p);
   Eigen::MatrixXd hp = dense_jacobian(model, Jacobian::h_p, pt.time, s.x, s.u, s.p);
@@ -144,7 +154,8 @@ void FisherEvaluator::add_gradient(CollocationNlp& nlp, std::span<const double> 
     Eigen::VectorXd grad_z = Eigen::VectorXd::Zero(nz);
     for (std::size_t i = 0; i < base_states_; ++i)
       for (std::size_t j = 0; j < parameters_.size(); ++j)
-        grad_z[sensitivity_state_[i][j]] += d_sx(Eigen::Index(i), Eigen::Index(j));
+        if (sensitivity_state_[i][j] >= 0)
+          grad_z[sensitivity_state_[i][j]] += d_sx(Eigen::Index(i), Eigen::Index(j));
     for (std::size_t j = 0; j < parameters_.size(); ++j) {
       Eigen::VectorXd mu = Eigen::VectorXd::Zero(Eigen::Index(info.outputs.size()));
       for (std::size_t r = 0; r < m_.outputs.size(); ++r)

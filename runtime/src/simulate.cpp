@@ -299,14 +299,18 @@ bool Simulation::set_up() {
       if (it != params.end() && s->state < nb)
         sens_states_[s->state * params.size() + static_cast<std::size_t>(it - params.begin())] = k;
     }
-    for (std::size_t k = 0; k < sens_states_.size(); ++k)
-      if (sens_states_[k] == nx_) {
+    // The compiler emits only structurally nonzero sensitivities: a missing
+    // S(i, j) is identically zero. A parameter with none at all is an error.
+    for (std::size_t j = 0; j < params.size(); ++j) {
+      bool any = false;
+      for (std::size_t i = 0; i < nb; ++i) any = any || sens_states_[i * params.size() + j] != nx_;
+      if (!any) {
         fail(SimulationStatus::invalid_problem,
-             fmt::format("model has no sensitivity state d({})/d({})",
-                         info_.states[k / params.size()].name,
-                         info_.parameters[params[k % params.size()]].name));
+             fmt::format("model has no sensitivity states for parameter {}",
+                         info_.parameters[params[j]].name));
         return false;
       }
+    }
     for (std::size_t j : params) sens_params_.push_back(static_cast<int>(j));
   } else if (sens_method_ != SensitivityMethod::none) {
     for (std::size_t j : sens.parameters) sens_params_.push_back(static_cast<int>(j));
@@ -388,7 +392,9 @@ void Simulation::record(double t) {
     sx.resize(nb, ns);
     for (Eigen::Index i = 0; i < nb; ++i)
       for (Eigen::Index j = 0; j < ns; ++j)
-        sx(i, j) = x[sens_states_[static_cast<std::size_t>(i * ns + j)]];
+        sx(i, j) = sens_states_[static_cast<std::size_t>(i * ns + j)] == nx_
+                       ? 0.0  // structurally zero
+                       : x[sens_states_[static_cast<std::size_t>(i * ns + j)]];
   } else {
     sx.resize(static_cast<Eigen::Index>(nx_), ns);
     for (Eigen::Index j = 0; j < ns; ++j)

@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <sstream>
 
 #include "e2e/cli.hpp"
 #include "e2e/support.hpp"
@@ -81,4 +82,32 @@ TEST_CASE("morun: a model error (undeclared variable) is reported at its line, e
   CHECK(r.status == 1);
   CHECK(std::regex_search(r.err, std::regex(R"(Undeclared\.mo:4:\d+: error: )")));
   CHECK_FALSE(fs::exists(out));
+}
+
+TEST_CASE("morun: --set x.start=v and --sensitivities x.start reach the initial conditions") {
+  const fs::path dir = scratch("morun_start");
+  const fs::path out = dir / "out";
+  const Run r = morun(quoted(kCartPendulum) + " -c CartPendulumODE --stop-time 1 --intervals 10 "
+                      "--input F=const:0 --set x.start=0.25 --sensitivities x.start,m2 -o " +
+                          quoted(out.string()),
+                      dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  std::ifstream in(out / "result.csv");
+  std::string header, first;
+  std::getline(in, header);
+  std::getline(in, first);
+  INFO(header << "\n" << first);
+  // time, x, phi, v, w, then sensitivities: x starts at 0.25 and d(x)/d(x.start) at 1.
+  CHECK(first.rfind("0,0.25,0,0,0,", 0) == 0);
+  CHECK(header.find("d(x)/d(x.start)") != std::string::npos);
+  const auto columns = [](const std::string& line) {
+    std::vector<std::string> fields;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) fields.push_back(f);
+    return fields;
+  };
+  const auto names = columns(header), values = columns(first);
+  const auto at = std::find(names.begin(), names.end(), "d(x)/d(x.start)") - names.begin();
+  CHECK(std::stod(values[static_cast<std::size_t>(at)]) == 1.0);
 }

@@ -333,7 +333,7 @@ TEST_CASE("Solver failures become typed results", "[simulate][errors]") {
     o.sensitivities.parameters = {2};
     auto r6 = simulate(model, single_input(constant_input(0)), p, OutputGrid::uniform(0, 1, 1), o);
     CHECK(r6.status == SimulationStatus::invalid_problem);
-    CHECK(r6.message == "model has no sensitivity state d(x)/d(m2)");
+    CHECK(r6.message == "model has no sensitivity states for parameter m2");
   }
   SECTION("event limit stops Zeno behaviour") {
     BouncingBall model;
