@@ -75,6 +75,22 @@ TEST_CASE("double integrator: limited-memory Hessian reaches the same optimum", 
   CHECK(std::count(lines.begin(), lines.end(), '\n') == r.iterations + 1);
 }
 
+TEST_CASE("double integrator: the optimum converges at second order as n_e grows", "[optimize]") {
+  // Piecewise-constant controls: J(n_e) − J* = 12 h² / (1 − h²) with J* = 12,
+  // so halving the element length divides the error by about 4.
+  fixtures::DoubleIntegrator model;
+  std::vector<double> error;
+  for (int n_e : {5, 10, 20, 40}) {
+    OptimizationResult r = solve(model, rest_to_rest(CollocationScheme::radau, n_e, 2, 1.0, 1.0));
+    REQUIRE(r.ok());
+    error.push_back(r.objective - 12.0);
+  }
+  for (std::size_t k = 1; k < error.size(); ++k) {
+    INFO("n_e step " << k << ": errors " << error[k - 1] << " -> " << error[k]);
+    CHECK(error[k - 1] / error[k] == Approx(4.0).epsilon(0.05));
+  }
+}
+
 TEST_CASE("optimisation reports an infeasible problem with a typed status", "[optimize]") {
   fixtures::DoubleIntegrator model;
   OptimalControlProblem p = rest_to_rest(CollocationScheme::radau, 10, 2, 1.0, 1.0);
