@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <optional>
 #include <iostream>
 
 #include "pipeline.hpp"
@@ -244,6 +245,26 @@ int estimation(Study& s) {
              : 1;
 }
 
+/// The parameters that need sensitivity states: a design's parameters of
+/// interest, or the free parameters of a Monte-Carlo check (for its
+/// Cramér–Rao bounds). Empty for the other tasks.
+std::vector<std::string> sensitivity_parameters(const flat::Model& flat, const StudyOptions& o) {
+  if (o.task == "design") {
+    if (o.parameters.empty())
+      throw UsageError("design needs study option 'parameters' (the parameters of interest)");
+    return o.parameters;
+  }
+  std::vector<std::string> out;
+  if (o.task == "monte_carlo")
+    for (const auto& v : flat.variables)
+      if (v.variability == frontend::ast::Variability::Parameter && v.attr.free &&
+          constant_value(flat, *v.attr.free).value_or(0) != 0)
+        out.push_back(v.name);
+  if (o.task == "monte_carlo" && out.empty())
+    throw UsageError("monte_carlo needs parameters declared free = true in the study");
+  return out;
+}
+
 }  // namespace
 
 }  // namespace detail
@@ -258,26 +279,14 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
   }
   ParsedOptions parsed = parse_study_options(*flat.optimization, overrides, diags);
   auto problem = add_problem_outputs(flat, diags);
-  diags.print(std::cerr);
   for (const auto& e : parsed.errors) std::cerr << "morun: error: " << e << "\n";
+  std::optional<symbolic::OdeModel> ode;
+  if (parsed.errors.empty() && parsed.ok && problem) ode = lower_model(flat, diags);
+  diags.print(std::cerr);  // once: warnings, or the errors that stop here
   if (!parsed.errors.empty()) return 2;
-  if (!parsed.ok || !problem) return 1;
-  auto ode = lower_model(flat, diags);
-  if (!ode) {
-    diags.print(std::cerr);
-    return 1;
-  }
-  if (parsed.options.task == "design" || parsed.options.task == "monte_carlo") {
-    if (parsed.options.task == "monte_carlo")  // sensitivities of the estimated parameters
-      for (const auto& v : flat.variables)
-        if (v.variability == frontend::ast::Variability::Parameter && v.attr.free &&
-            constant_value(flat, *v.attr.free).value_or(0) != 0)
-          parsed.options.parameters.push_back(v.name);
-    if (parsed.options.parameters.empty())
-      throw UsageError("design needs study option 'parameters' (the parameters of interest)");
-    if (auto error = add_named_sensitivities(*ode, parsed.options.parameters); !error.empty())
-      throw UsageError(error);
-  }
+  if (!ode) return 1;
+  if (const auto params = sensitivity_parameters(flat, parsed.options); !params.empty())
+    if (auto error = add_named_sensitivities(*ode, params); !error.empty()) throw UsageError(error);
   Study s{flat, cli, std::move(parsed.options), std::move(*problem), build_model(*ode, cli.jobs, "morun")};
   fs::create_directories(cli.output);
   if (s.opt.task == "design") return design(s);
