@@ -219,15 +219,11 @@ void write_estimation_outputs(const std::string& dir, runtime::Model& model,
                               const runtime::EstimationProblem& e,
                               const runtime::EstimationResult& r) {
   const runtime::ModelInfo& info = model.info();
-  json j;
+  // The runtime's summary and trajectories_<e>.csv, then the study's keys on
+  // top of that summary (as write_optimization_outputs does).
+  runtime::write_estimation_result(dir, r);
+  json j = json::parse(runtime::estimation_summary_json(r));
   j["model"] = info.name;
-  j["status"] = std::string(runtime::to_string(r.status));
-  j["message"] = r.message;
-  j["iterations"] = r.iterations;
-  j["chi_square"] = r.chi_square;
-  j["measurements"] = r.measurements;
-  j["degrees_of_freedom"] = r.degrees_of_freedom;
-  j["residual_variance"] = r.residual_variance;
   j["confidence"] = e.confidence;
   j["t_quantile"] = r.t_quantile;
   json est = json::array();
@@ -241,9 +237,6 @@ void write_estimation_outputs(const std::string& dir, runtime::Model& model,
                               : json()}});
   j["estimates"] = est;
   j["fisher"] = matrix_json(r.fisher);
-  j["covariance"] = matrix_json(r.covariance);
-  j["correlation"] = matrix_json(r.correlation);
-  j["warnings"] = r.warnings;
   write_json((fs::path(dir) / "summary.json").string(), j);
   // fit.csv: the model at the estimate on each experiment's sample times.
   std::vector<std::string> names{"experiment"};
