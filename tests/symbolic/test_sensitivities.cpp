@@ -14,8 +14,8 @@ using namespace mo::symbolic;
 
 namespace {
 
-OdeModel lower_text(const std::string& text) {
-  auto c = mo::test::compile_text(text);
+/// Lowers a compiled model; the test fails if either step does.
+OdeModel lowered(const mo::test::Compiled& c) {
   REQUIRE(c.ok());
   mo::frontend::SourceManager sm;
   mo::frontend::DiagnosticEngine diags(sm);
@@ -24,16 +24,12 @@ OdeModel lower_text(const std::string& text) {
   return std::move(*m);
 }
 
+OdeModel lower_text(const std::string& text) { return lowered(mo::test::compile_text(text)); }
+
 OdeModel cart_pendulum() {
   auto text = mo::test::read_file(std::string(MO_SOURCE_DIR) +
                                   "/modelica/CartPendulum/CartPendulumODE.mo");
-  auto c = mo::test::compile({{"CartPendulumODE.mo", text}}, "CartPendulumODE");
-  REQUIRE(c.ok());
-  mo::frontend::SourceManager sm;
-  mo::frontend::DiagnosticEngine diags(sm);
-  auto m = lower(*c.model, diags);
-  REQUIRE(m);
-  return std::move(*m);
+  return lowered(mo::test::compile({{"CartPendulumODE.mo", text}}, "CartPendulumODE"));
 }
 
 std::vector<double> defaults(const OdeModel& m) {
