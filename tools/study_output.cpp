@@ -19,20 +19,6 @@ namespace mo::tools {
 
 namespace {
 
-/// A shared signal used where an owning pointer is needed.
-class SharedSignal final : public runtime::InputSignal {
-public:
-  explicit SharedSignal(std::shared_ptr<const runtime::InputSignal> s) : s_(std::move(s)) {}
-  double value(double t) const override { return s_->value(t); }
-  double value_before(double t) const override { return s_->value_before(t); }
-  std::vector<double> breakpoints(double t0, double t1) const override {
-    return s_->breakpoints(t0, t1);
-  }
-
-private:
-  std::shared_ptr<const runtime::InputSignal> s_;
-};
-
 std::vector<std::string> split(const std::string& s, char sep) {
   std::vector<std::string> out;
   std::stringstream in(s);
@@ -69,7 +55,7 @@ void write_json(const std::string& path, const json& j) {
 runtime::Inputs inputs_of(const std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>>& m,
                           std::size_t n) {
   runtime::Inputs in;
-  for (std::size_t i = 0; i < n; ++i) in.add(std::make_unique<SharedSignal>(m.at(i)));
+  for (std::size_t i = 0; i < n; ++i) in.add(runtime::shared_input(m.at(i)));
   return in;
 }
 

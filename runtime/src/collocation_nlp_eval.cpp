@@ -2,7 +2,6 @@
 #include "collocation_nlp.hpp"
 
 #include "mo/runtime/simulate.hpp"
-#include "shared_signal.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -175,7 +174,7 @@ void CollocationNlp::initial_guess_from_simulation(int e) {
           std::clamp(signals[fc.input]->value(mid), fc.bounds.lo, fc.bounds.hi);
     }
   }
-  for (auto& sig : signals) inputs.add(share(sig));
+  for (auto& sig : signals) inputs.add(shared_input(sig));
   std::vector<double> times;
   for (int i = 0; i < num_elements(); ++i)
     for (double tau : poly_.tau) times.push_back(element_start(e, i) + tau * element_length(e, i));

@@ -1,7 +1,6 @@
 #include "estimate_statistics.hpp"
 
 #include "mo/runtime/simulate.hpp"
-#include "shared_signal.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -37,7 +36,7 @@ bool fisher_from_sensitivities(const Model& model, const EstimationProblem& prob
   samples = 0;
   for (const EstimationExperiment& ex : problem.experiments) {
     Inputs inputs;
-    for (std::size_t i = 0; i < model.info().inputs.size(); ++i) inputs.add(detail::share(ex.inputs.at(i)));
+    for (std::size_t i = 0; i < model.info().inputs.size(); ++i) inputs.add(shared_input(ex.inputs.at(i)));
     std::vector<double> times{ex.t0};
     times.insert(times.end(), ex.data.times.begin(), ex.data.times.end());
     std::unique_ptr<Model> m = model.clone();

@@ -165,6 +165,27 @@ std::vector<std::string_view> split_fields(std::string_view line) {
 
 }  // namespace
 
+namespace {
+
+class SharedSignal final : public InputSignal {
+public:
+  explicit SharedSignal(std::shared_ptr<const InputSignal> signal) : signal_(std::move(signal)) {}
+  [[nodiscard]] double value(double t) const override { return signal_->value(t); }
+  [[nodiscard]] double value_before(double t) const override { return signal_->value_before(t); }
+  [[nodiscard]] std::vector<double> breakpoints(double t0, double t1) const override {
+    return signal_->breakpoints(t0, t1);
+  }
+
+private:
+  std::shared_ptr<const InputSignal> signal_;
+};
+
+}  // namespace
+
+std::unique_ptr<InputSignal> shared_input(std::shared_ptr<const InputSignal> signal) {
+  return std::make_unique<SharedSignal>(std::move(signal));
+}
+
 std::unique_ptr<InputSignal> constant_input(double value) {
   return std::make_unique<ConstantSignal>(value);
 }

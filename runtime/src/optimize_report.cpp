@@ -4,7 +4,6 @@
 
 #include "mo/runtime/simulate.hpp"
 #include "optimize_internal.hpp"
-#include "shared_signal.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -19,7 +18,7 @@ Inputs inputs_for(const std::map<std::size_t, std::shared_ptr<const InputSignal>
                   const std::vector<FreeControl>& controls, const OptimizationResult& result,
                   std::size_t num_inputs) {
   std::vector<std::unique_ptr<InputSignal>> signals(num_inputs);
-  for (const auto& [input, signal] : fixed) signals[input] = detail::share(signal);
+  for (const auto& [input, signal] : fixed) signals[input] = shared_input(signal);
   std::vector<double> starts(result.element_times.begin(), result.element_times.end() - 1);
   for (std::size_t c = 0; c < controls.size(); ++c)
     signals[controls[c].input] = piecewise_constant_input(starts, result.control_values[c]);

@@ -45,6 +45,8 @@ std::unique_ptr<InputSignal> step_input(double height, double start_time, double
 /// 0 < width ≤ period.
 std::unique_ptr<InputSignal> pulse_input(double amplitude, double period, double width,
                                          double start_time = 0.0, double offset = 0.0);
+/// A signal that forwards to `signal`, so one signal can drive several Inputs.
+std::unique_ptr<InputSignal> shared_input(std::shared_ptr<const InputSignal> signal);
 /// Piecewise constant: values[k] on [times[k], times[k+1]), values[0] before
 /// times[0], values.back() after. Throws std::invalid_argument unless sizes are
 /// equal and non-zero and times strictly ascend.
