@@ -12,7 +12,8 @@ namespace mo::e2e {
 struct EventSensitivityRun {
   std::vector<Eigen::MatrixXd> generated, cvodes, differences;
   std::vector<double> times;        ///< the grid
-  std::vector<double> event_times;  ///< of the nominal run
+  std::vector<double> event_times;  ///< of the nominal run (events that changed something)
+  long restarts = 0;                ///< integrator restarts: every crossing, changing or not
 };
 
 inline runtime::SimulationOptions event_options(runtime::SensitivityMethod method,
@@ -50,6 +51,7 @@ inline EventSensitivityRun run_through_events(const std::string& id, const tools
   REQUIRE(generated.ok());
   out.generated = generated.state_sensitivities;
   out.event_times = generated.event_times;
+  out.restarts = generated.statistics.restarts;
   const auto cvodes = runtime::simulate(*plain, {}, p, grid,
                                         event_options(runtime::SensitivityMethod::cvodes_analytic, J, rtol));
   INFO(cvodes.message);

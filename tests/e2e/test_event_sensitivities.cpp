@@ -24,9 +24,9 @@ EventSensitivityRun check(const std::string& id, const std::string& model,
   const auto run = run_through_events(id, data_model(model), parameters, grid, 1e-10, 1e-4);
   const double generated = worst_relative(run, run.generated, 1e-3, 1e-6);
   const double cvodes = worst_relative(run, run.cvodes, 1e-3, 1e-6);
-  WARN(model << ": " << run.event_times.size() << " events; sensitivities vs central differences, "
+  WARN(model << ": " << run.restarts << " crossings; sensitivities vs central differences, "
              << "worst relative difference: generated " << generated << ", CVODES " << cvodes);
-  CHECK(!run.event_times.empty());
+  CHECK(run.restarts > 0);
   CHECK(generated < tolerance);
   CHECK(cvodes < tolerance);
   return run;
@@ -50,7 +50,7 @@ TEST_CASE("a time event at a parameter time, two clauses and an event iteration 
 }
 
 TEST_CASE("a diode-like if-expression: the right-hand side jumps", "[events][sensitivities]") {
-  check("e2e_ev_diode", "DiodeRC", {"Ron", "Roff", "A", "C"}, runtime::OutputGrid::uniform(0, 3, 60), 1e-4);
+  check("e2e_ev_diode", "DiodeRC", {"Vf", "Roff", "A", "C"}, runtime::OutputGrid::uniform(0, 3, 60), 1e-4);
 }
 
 TEST_CASE("a discrete mode set by a when-clause and read by an if-expression", "[events][sensitivities]") {
@@ -68,7 +68,7 @@ TEST_CASE("a study on a model with events is refused with the when-clause named,
   const Run r = morun(quoted(kData + "BallControl.mop") + " -o " + quoted((dir / "out").string()), dir);
   INFO(r.err);
   CHECK(r.status == 1);
-  CHECK(r.err.find("BallControl.mop:12:3: error:") != std::string::npos);
+  CHECK(r.err.find("BallControl.mop:14:3: error:") != std::string::npos);
   CHECK(r.err.find("when h < 0") != std::string::npos);
   CHECK(!fs::exists(dir / "out" / "summary.json"));
 }
