@@ -155,6 +155,10 @@ int run(const Options& opt) {
   so.relative_tolerance = opt.rtol;
   so.absolute_tolerance = opt.atol;
   if (!opt.sensitivities.empty()) so.sensitivities.method = runtime::SensitivityMethod::model_states;
+  // Every requested parameter, so that one without sensitivity states is
+  // reported by simulate() instead of silently missing from the columns.
+  for (const auto& name : opt.sensitivities)
+    if (const auto k = info.parameter_index(name)) so.sensitivities.parameters.push_back(*k);
   const auto result = runtime::simulate(*model, inputs(info, opt),
                                         p, runtime::OutputGrid::uniform(0.0, opt.stop_time, opt.intervals), so);
   fs::create_directories(opt.output);

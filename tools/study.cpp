@@ -9,6 +9,7 @@
 #include <iostream>
 
 #include "pipeline.hpp"
+#include "study_events.hpp"
 #include "study_internal.hpp"
 #include "study_output.hpp"
 
@@ -282,6 +283,7 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
   for (const auto& e : parsed.errors) std::cerr << "morun: error: " << e << "\n";
   std::optional<symbolic::OdeModel> ode;
   if (parsed.errors.empty() && parsed.ok && problem) ode = lower_model(flat, diags);
+  if (ode && reject_events_in_study(flat, *ode, diags)) ode.reset();
   diags.print(std::cerr);  // once: warnings, or the errors that stop here
   if (!parsed.errors.empty()) return 2;
   if (!ode) return 1;

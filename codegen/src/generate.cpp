@@ -264,6 +264,24 @@ std::string when_tables(const Program& p) {
   return out;
 }
 
+/// Tables of Program::event_tangents (sections -1 and null arrays without events).
+std::string event_tangent_tables(const Program& p) {
+  const EventTangentCode& e = p.event_tangents;
+  std::string out = fmt::format(
+      "constexpr int event_rhs_section = {}, event_tangent_section = {};\n"
+      "constexpr std::size_t event_seed_t = {};\n",
+      e.rhs, e.tangent, e.seed_t);
+  std::vector<std::string> sections;
+  for (int k : e.whens) sections.push_back(fmt::format("section_{}", k));
+  out += array("SectionFunction", "when_tangent_sections", sections, [](const std::string& s) { return s; });
+  out += slot_array("event_seed_x", e.seed_x);
+  out += slot_array("event_seed_p", e.seed_p);
+  out += slot_array("indicator_tangent_slots", e.indicator_slots);
+  out += slot_array("assign_tangent_slots", e.assign_slots);
+  out += slot_array("reinit_tangent_slots", e.reinit_slots);
+  return out;
+}
+
 std::string sizes(const OdeModel& m, const Program& p) {
   return fmt::format(
       "constexpr std::size_t nx = {}, nu = {}, ny = {}, np = {}, nd = {}, ng = {}, nwhen = {}, "
@@ -392,7 +410,7 @@ struct HessianTables {
 };
 
 )" + jacobian_tables(program) + hessian_tables(program) +
-          when_tables(program) + detail::model_class + fmt::format(R"(
+          when_tables(program) + event_tangent_tables(program) + detail::model_class + fmt::format(R"(
 }}  // namespace
 
 std::unique_ptr<mo::runtime::Model> create() {{ return std::make_unique<GeneratedModel>(); }}

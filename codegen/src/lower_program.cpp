@@ -1,12 +1,14 @@
 // OdeModel → Program: sections in the order the printed methods run them.
 #include <algorithm>
 #include <iterator>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "derivatives.hpp"
 #include "mo/codegen/program.hpp"
 #include "mo/symbolic/evaluator.hpp"
+#include "mo/symbolic/event_tangents.hpp"
 #include "mo/symbolic/traversal.hpp"
 #include "section_builder.hpp"
 
@@ -28,11 +30,9 @@ struct RelationOnCrossing {
   double value_if_down;
 };
 
-/// Relations in the when-conditions whose indicator is a zero crossing
-/// g = a - b (or b - a) of `a op b`. Adds the differences to the arena.
-std::vector<RelationOnCrossing> match_relations(OdeModel& m) {
-  std::vector<Expr> conditions;
-  for (const auto& w : m.whens) conditions.push_back(w.condition);
+/// Relations under `roots` whose indicator is a zero crossing g = a - b (or
+/// b - a) of `a op b`. Adds the differences to the arena.
+std::vector<RelationOnCrossing> match_relations(OdeModel& m, const std::vector<Expr>& conditions) {
   std::vector<RelationOnCrossing> out;
   for (Expr e : symbolic::topological_order(m.arena, conditions)) {
     const ExprKind k = m.arena.kind(e);
@@ -53,6 +53,31 @@ std::vector<RelationOnCrossing> match_relations(OdeModel& m) {
     }
   }
   return out;
+}
+
+/// Every expression the event-tangent sections compute.
+std::vector<Expr> event_roots(const OdeModel& m, const symbolic::EventTangents& t) {
+  std::vector<Expr> roots;
+  auto add_steps = [&](const std::vector<symbolic::Step>& steps) {
+    for (const auto& s : steps) {
+      if (const auto* as = std::get_if<symbolic::Assignment>(&s)) {
+        roots.push_back(as->value);
+        continue;
+      }
+      const auto& b = std::get<symbolic::EquationBlock>(s);
+      roots.insert(roots.end(), b.residuals.begin(), b.residuals.end());
+      roots.insert(roots.end(), b.offset.begin(), b.offset.end());
+      for (const auto& e : b.jacobian) roots.push_back(e.value);
+    }
+  };
+  add_steps(m.steps);
+  add_steps(t.directional.steps);
+  roots.insert(roots.end(), t.indicators.begin(), t.indicators.end());
+  for (const auto& w : t.whens) {
+    roots.insert(roots.end(), w.assignments.begin(), w.assignments.end());
+    roots.insert(roots.end(), w.reinits.begin(), w.reinits.end());
+  }
+  return roots;
 }
 
 std::string names_of(const ExprArena& a, const std::vector<Expr>& symbols) {
@@ -90,7 +115,15 @@ public:
   Program run() {
     check_targets(m_);
     for (const auto& d : m_.discrete) pre_discrete_.push_back(m_.arena.pre(d.symbol));
-    relations_ = match_relations(m_);
+    {
+      std::vector<Expr> conditions;
+      for (const auto& w : m_.whens) conditions.push_back(w.condition);
+      relations_ = match_relations(m_, conditions);
+    }
+    if (!m_.zero_crossings.empty() || !m_.whens.empty()) {
+      tangents_ = symbolic::event_tangents(m_);
+      event_relations_ = match_relations(m_, event_roots(m_, *tangents_));
+    }
     derivatives_ = detail::build_derivatives(m_);
     second_ = detail::build_second_derivatives(m_, derivatives_);
     // The arena is complete from here on.
@@ -100,6 +133,7 @@ public:
     outputs();
     starts();
     events();
+    if (tangents_) event_tangents();
     jacobians();
     p_.num_slots = slots_->count();
     p_.node_slots = slots_->all();
@@ -229,6 +263,54 @@ private:
         code.reinits.emplace_back(r.state, b.root(r.value, s));
       }
       p_.whens.push_back(std::move(code));
+    }
+  }
+
+  /// A builder for the event-tangent chain: relations on indicators follow cross[].
+  detail::SectionBuilder event_builder(const detail::Validity& valid) {
+    auto b = builder(valid);
+    for (const auto& r : event_relations_) b.override_relation(r.relation, r.indicator, r.value_if_down);
+    return b;
+  }
+
+  void emit_steps(detail::SectionBuilder& b, int section, const std::vector<symbolic::Step>& steps,
+                  const std::string& what) {
+    std::size_t number = 0;
+    for (const auto& step : steps) {
+      Section& s = p_.sections[static_cast<std::size_t>(section)];
+      if (const auto* as = std::get_if<symbolic::Assignment>(&step)) {
+        b.assign(slots_->of(as->target), as->value, s);
+        continue;
+      }
+      b.block(std::get<symbolic::EquationBlock>(step), what + " block " + std::to_string(++number), s);
+    }
+  }
+
+  /// Sections of EventTangentCode: steps with relations from cross[], the
+  /// tangent steps and indicator tangents, one section per when-clause.
+  void event_tangents() {
+    const symbolic::EventTangents& t = *tangents_;
+    EventTangentCode& code = p_.event_tangents;
+    for (Expr e : t.seed_x) code.seed_x.push_back(slots_->of(e));
+    for (Expr e : t.seed_p) code.seed_p.push_back(slots_->of(e));
+    code.seed_t = slots_->of(t.seed_t);
+    new_section("event_rhs", code.rhs);
+    auto b = event_builder({});
+    emit_steps(b, code.rhs, m_.steps, "event right-hand side");
+    for (const auto& x : m_.states) b.root(x.derivative, p_.sections[static_cast<std::size_t>(code.rhs)]);
+    new_section("event_tangent", code.tangent);
+    auto bt = event_builder(b.valid());
+    emit_steps(bt, code.tangent, t.directional.steps, "event tangent");
+    for (Expr g : t.indicators)
+      code.indicator_slots.push_back(bt.root(g, p_.sections[static_cast<std::size_t>(code.tangent)]));
+    for (const auto& w : t.whens) {
+      int index = -1;
+      new_section("when_tangent" + std::to_string(code.whens.size()), index);
+      auto bw = event_builder(bt.valid());
+      Section& s = p_.sections[static_cast<std::size_t>(index)];
+      for (Expr e : w.assignments) code.assign_slots.push_back(bw.root(e, s));
+      for (Expr e : w.reinits) code.reinit_slots.push_back(bw.root(e, s));
+      code.whens.push_back(index);
     }
   }
 
@@ -411,6 +493,8 @@ private:
   std::optional<detail::SlotMap> slots_;
   std::vector<Expr> pre_discrete_;
   std::vector<RelationOnCrossing> relations_;
+  std::optional<symbolic::EventTangents> tangents_;
+  std::vector<RelationOnCrossing> event_relations_;  // relations of the event_tangents sections
   detail::Derivatives derivatives_;
   detail::SecondDerivatives second_;
   detail::Validity after_steps_, after_starts_;

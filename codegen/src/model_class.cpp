@@ -42,8 +42,8 @@ const std::array<mo::runtime::Sparsity, 2>& hessian_sparsities() {
 
 class GeneratedModel final : public mo::runtime::Model {
 public:
-  GeneratedModel() : w_(num_slots, 0.0), cross_(ng, 0), reversed_(ng, 0), before_(nwhen, 0.0),
-                     now_(nwhen, 0.0) {
+  GeneratedModel() : w_(num_slots, 0.0), cross_(ng, 0), reversed_(ng, 0), relations_(ng, 0),
+                     before_(nwhen, 0.0), now_(nwhen, 0.0), fired_(nwhen, 0) {
     reset();
   }
 
@@ -168,8 +168,10 @@ public:
     conditions(cross_.data(), now_);
     mo::runtime::EventResponse response;
     double* w = w_.data();
+    std::fill(fired_.begin(), fired_.end(), 0);
     for (std::size_t k = 0; k < nwhen; ++k) {
       if (now_[k] == 0.0 || before_[k] != 0.0) continue;
+      fired_[k] = 1;
       when_sections[k](w, nullptr, ws_);
       for (int a = when_assign_start[k]; a < when_assign_start[k + 1]; ++a)
         w[when_assign_target[a]] = w[when_assign_value[a]];
@@ -180,6 +182,64 @@ public:
     }
     for (std::size_t i = 0; i < nd; ++i)
       response.discrete_changed = response.discrete_changed || w[d_slot + i] != w[pre_d_slot + i];
+    return response;
+  }
+
+  bool provides_event_tangents() const override { return event_rhs_section >= 0; }
+
+  void rhs_at_event(double t, std::span<const double> x, std::span<const double> u,
+                    std::span<const double> p, std::span<const int> relations_from,
+                    std::span<double> xdot) override {
+    if (event_rhs_section < 0) return rhs(t, x, u, p, xdot);
+    load(t, x, u, p);
+    set_relations(relations_from);
+    run(event_rhs_section, relations_.data());
+    for (std::size_t i = 0; i < nx; ++i) xdot[i] = w_[static_cast<std::size_t>(derivative_slots[i])];
+  }
+
+  void event_indicator_tangent(double t, std::span<const double> x, std::span<const double> u,
+                               std::span<const double> p, std::span<const int> relations_from,
+                               std::span<const double> dx, std::span<const double> dp, double dt,
+                               std::span<double> dg) override {
+    if (event_rhs_section < 0) return mo::runtime::Model::event_indicator_tangent(t, x, u, p, relations_from, dx, dp, dt, dg);
+    load(t, x, u, p);
+    set_relations(relations_from);
+    run(event_rhs_section, relations_.data());
+    seed_event(dx, dp, dt);
+    run(event_tangent_section, relations_.data());
+    for (std::size_t i = 0; i < ng; ++i) dg[i] = w_[static_cast<std::size_t>(indicator_tangent_slots[i])];
+  }
+
+  // The handler, then each direction through the clauses that fired, at the
+  // states and discrete variables the handler found (relations as it saw them).
+  mo::runtime::EventResponse handle_event_tangent(const mo::runtime::EventCause& cause,
+                                                  std::span<double> x, std::span<const double> u,
+                                                  std::span<const double> p,
+                                                  std::span<mo::runtime::EventTangent> directions,
+                                                  std::string& unsupported) override {
+    if (event_rhs_section < 0) return mo::runtime::Model::handle_event_tangent(cause, x, u, p, directions, unsupported);
+    const std::vector<double> x_before(x.begin(), x.end());
+    const mo::runtime::EventResponse response = handle_event(cause, x, u, p);
+    const std::vector<double> d_after(w_.begin() + d_slot, w_.begin() + d_slot + nd);
+    std::copy(x_before.begin(), x_before.end(), w_.begin() + x_slot);
+    for (std::size_t i = 0; i < nd; ++i) w_[d_slot + i] = w_[pre_d_slot + i];
+    std::fill(relations_.begin(), relations_.end(), 0);
+    run(event_rhs_section, relations_.data());
+    double* w = w_.data();
+    for (mo::runtime::EventTangent& dir : directions) {
+      seed_event(dir.x, dir.p, dir.t);
+      run(event_tangent_section, relations_.data());
+      for (std::size_t k = 0; k < nwhen; ++k) {
+        if (!fired_[k]) continue;
+        when_tangent_sections[k](w, relations_.data(), ws_);
+        for (int a = when_assign_start[k]; a < when_assign_start[k + 1]; ++a)
+          if (w[assign_tangent_slots[a]] != 0.0 && unsupported.empty())
+            unsupported = info().discrete[static_cast<std::size_t>(when_assign_target[a]) - d_slot].name;
+        for (int r = when_reinit_start[k]; r < when_reinit_start[k + 1]; ++r)
+          dir.x[static_cast<std::size_t>(when_reinit_state[r])] = w[reinit_tangent_slots[r]];
+      }
+    }
+    std::copy(d_after.begin(), d_after.end(), w_.begin() + d_slot);
     return response;
   }
 
@@ -221,10 +281,20 @@ private:
     for (std::size_t k = 0; k < nwhen; ++k) values[k] = w_[static_cast<std::size_t>(condition_slots[k])];
   }
 
+  void set_relations(std::span<const int> from) {
+    for (std::size_t i = 0; i < ng; ++i) relations_[i] = i < from.size() ? from[i] : 0;
+  }
+  void seed_event(std::span<const double> dx, std::span<const double> dp, double dt) {
+    for (std::size_t i = 0; i < nx; ++i) w_[static_cast<std::size_t>(event_seed_x[i])] = dx[i];
+    for (std::size_t i = 0; i < np; ++i) w_[static_cast<std::size_t>(event_seed_p[i])] = dp[i];
+    w_[event_seed_t] = dt;
+  }
+
   std::vector<double> w_;
   G::BlockWorkspace ws_;
-  std::vector<int> cross_, reversed_;
+  std::vector<int> cross_, reversed_, relations_;
   std::vector<double> before_, now_;
+  std::vector<char> fired_;
   double event_time_ = std::numeric_limits<double>::quiet_NaN();
 };
 )";

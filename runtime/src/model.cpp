@@ -121,3 +121,28 @@ void Model::hessian_values(Hessian which, double, std::span<const double>,
 }
 
 }  // namespace mo::runtime
+
+namespace mo::runtime {
+
+void Model::rhs_at_event(double t, std::span<const double> x, std::span<const double> u,
+                         std::span<const double> p, std::span<const int>,
+                         std::span<double> xdot) {
+  rhs(t, x, u, p, xdot);
+}
+
+void Model::event_indicator_tangent(double, std::span<const double>, std::span<const double>,
+                                    std::span<const double>, std::span<const int>,
+                                    std::span<const double>, std::span<const double>, double,
+                                    std::span<double>) {
+  throw std::logic_error("internal error: Model::event_indicator_tangent called on model '" +
+                         info().name + "', which does not provide event tangents");
+}
+
+EventResponse Model::handle_event_tangent(const EventCause&, std::span<double>,
+                                          std::span<const double>, std::span<const double>,
+                                          std::span<EventTangent>, std::string&) {
+  throw std::logic_error("internal error: Model::handle_event_tangent called on model '" +
+                         info().name + "', which does not provide event tangents");
+}
+
+}  // namespace mo::runtime

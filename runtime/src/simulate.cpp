@@ -2,6 +2,8 @@
 // root finding for state events, event iteration, restarts, sensitivities.
 #include "mo/runtime/simulate.hpp"
 
+#include "event_sensitivity.hpp"
+
 #include <cvodes/cvodes.h>
 #include <nvector/nvector_serial.h>
 #include <sunlinsol/sunlinsol_dense.h>
@@ -13,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <optional>
 
 namespace mo::runtime {
 
@@ -127,6 +130,8 @@ private:
   void record(double t);
   bool restart(double t);
   bool handle_event(double t, std::span<const int> crossings, bool time_event, bool& changed);
+  Eigen::MatrixXd sensitivities() const;
+  bool apply_jump(double t, detail::SensitivityJump& jump);
   void harvest_statistics();
   void fail(SimulationStatus status, std::string message);
   void fail_cvode(int flag, const char* call, double t);
@@ -454,6 +459,17 @@ bool Simulation::handle_event(double t, std::span<const int> crossings, bool tim
   EventCause cause{t, crossings, time_event};
   changed = false;
   bool terminate = false;
+  std::optional<detail::SensitivityJump> jump;
+  if (sens_method_ != SensitivityMethod::none && !sens_params_.empty()) {
+    if (!model_.provides_event_tangents()) {
+      fail(SimulationStatus::invalid_problem,
+           fmt::format("event at t = {}: model '{}' gives no event tangents, so its "
+                       "sensitivities cannot be carried through events",
+                       t, info_.name));
+      return false;
+    }
+    jump.emplace(model_, t, states(), u_, p_, crossings, sensitivities(), sens_params_);
+  }
   for (int iteration = 0;; ++iteration) {
     if (iteration == options_.max_event_iterations) {
       fail(SimulationStatus::event_iteration_limit,
@@ -462,7 +478,8 @@ bool Simulation::handle_event(double t, std::span<const int> crossings, bool tim
                        t, options_.max_event_iterations));
       return false;
     }
-    EventResponse response = model_.handle_event(cause, x, u_, p_);
+    EventResponse response =
+        jump ? jump->handle(cause, x, u_, p_) : model_.handle_event(cause, x, u_, p_);
     changed = changed || response.discrete_changed || response.states_reinit;
     terminate = terminate || response.terminate;
     if (!response.discrete_changed) break;
@@ -481,9 +498,68 @@ bool Simulation::handle_event(double t, std::span<const int> crossings, bool tim
     fail(SimulationStatus::rhs_failure, fmt::format("event at t = {} set a non-finite state", t));
     return false;
   }
+  if (jump && !apply_jump(t, *jump)) return false;
   if (terminate) {
     fail(SimulationStatus::terminated_by_model, fmt::format("terminated by the model at t = {}", t));
     return false;
+  }
+  return true;
+}
+
+// S⁻ as a matrix: base states × J (model_states) or states × J (CVODES).
+Eigen::MatrixXd Simulation::sensitivities() const {
+  const auto ns = static_cast<Eigen::Index>(sens_params_.size());
+  if (sens_method_ != SensitivityMethod::model_states) {
+    Eigen::MatrixXd sx(static_cast<Eigen::Index>(nx_), ns);
+    for (Eigen::Index j = 0; j < ns; ++j)
+      sx.col(j) = Eigen::Map<const Eigen::VectorXd>(N_VGetArrayPointer(s_->v[j]),
+                                                    static_cast<Eigen::Index>(nx_));
+    return sx;
+  }
+  const auto nb = static_cast<Eigen::Index>(info_.num_base_states());
+  Eigen::MatrixXd sx = Eigen::MatrixXd::Zero(nb, ns);
+  for (Eigen::Index i = 0; i < nb; ++i)
+    for (Eigen::Index j = 0; j < ns; ++j)
+      if (std::size_t k = sens_states_[static_cast<std::size_t>(i * ns + j)]; k != nx_)
+        sx(i, j) = x_->data()[k];
+  return sx;
+}
+
+// S⁺ after the handler: written back where S⁻ was read from.
+bool Simulation::apply_jump(double t, detail::SensitivityJump& jump) {
+  if (!jump.unsupported().empty()) {
+    fail(SimulationStatus::invalid_problem,
+         fmt::format("event at t = {}: discrete variable '{}' takes a value that depends on the "
+                     "states, parameters or time; sensitivities through it are not supported",
+                     t, jump.unsupported()));
+    return false;
+  }
+  const Eigen::MatrixXd sx = jump.finish(t, states(), u_, p_);
+  if (!sx.allFinite()) {
+    fail(SimulationStatus::rhs_failure,
+         fmt::format("event at t = {}: non-finite sensitivity jump", t));
+    return false;
+  }
+  const auto ns = sx.cols();
+  for (Eigen::Index j = 0; j < ns; ++j) {
+    if (sens_method_ != SensitivityMethod::model_states) {
+      Eigen::Map<Eigen::VectorXd>(N_VGetArrayPointer(s_->v[j]), sx.rows()) = sx.col(j);
+      continue;
+    }
+    for (Eigen::Index i = 0; i < sx.rows(); ++i) {
+      const std::size_t k = sens_states_[static_cast<std::size_t>(i * ns + j)];
+      if (k != nx_) {
+        x_->data()[k] = sx(i, j);
+      } else if (sx(i, j) != 0.0) {
+        fail(SimulationStatus::invalid_problem,
+             fmt::format("event at t = {}: d({})/d({}) jumps to {}, but the model has no "
+                         "sensitivity state for it",
+                         t, info_.states[static_cast<std::size_t>(i)].name,
+                         info_.parameters[static_cast<std::size_t>(sens_params_[static_cast<std::size_t>(j)])].name,
+                         sx(i, j)));
+        return false;
+      }
+    }
   }
   return true;
 }

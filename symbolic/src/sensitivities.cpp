@@ -51,6 +51,23 @@ Users users(const OdeModel& m, const std::vector<StepLeaves>& steps, std::size_t
   return u;
 }
 
+/// True if an event expression (indicator, when-condition, reinit value,
+/// discrete assignment) reads one of `reached` (leaves that depend on p).
+bool touches_events(const OdeModel& m, const std::unordered_set<Expr, ExprHash>& reached) {
+  std::vector<Expr> roots(m.zero_crossings);
+  for (const WhenClause& w : m.whens) {
+    roots.push_back(w.condition);
+    for (const Assignment& a : w.assignments) roots.push_back(a.value);
+    for (const Reinit& r : w.reinits) roots.push_back(r.value);
+  }
+  for (Expr l : leaves(m.arena, roots)) {
+    // pre(v) of a continuous v is v's value at the event.
+    const Expr v = m.arena.kind(l) == ExprKind::Pre ? m.arena.operand(l, 0) : l;
+    if (reached.count(l) || reached.count(v)) return true;
+  }
+  return false;
+}
+
 /// The base states whose value depends on parameter symbol `p`: a worklist
 /// over leaves (parameter → steps reading it → their targets → states whose
 /// derivative they are → steps reading those states ...), linear in the model.
@@ -65,9 +82,11 @@ std::vector<bool> influenced_states(const OdeModel& m, const std::vector<StepLea
         work.push_back(m.states[i].symbol);
       }
   }
+  std::unordered_set<Expr, ExprHash> reached{p};
   while (!work.empty()) {
     const Expr leaf = work.back();
     work.pop_back();
+    reached.insert(leaf);
     const auto it = u.steps_using.find(leaf);
     if (it == u.steps_using.end()) continue;
     for (std::size_t s : it->second) {
@@ -83,6 +102,11 @@ std::vector<bool> influenced_states(const OdeModel& m, const std::vector<StepLea
       }
     }
   }
+  // At an event the sensitivities jump (S+ = r_x S- + r_p + (r_x f- + r_t - f+) dtau/dp):
+  // a parameter that reaches an indicator, a when-condition, a reinit or a
+  // discrete assignment moves the event or its effect, and through the jump
+  // any state. All base states then get sensitivities (a superset).
+  if (touches_events(m, reached)) std::fill(hit.begin(), hit.end(), true);
   return hit;
 }
 

@@ -107,3 +107,30 @@ TEST_CASE("add_sensitivities rejects bad parameter lists") {
   CHECK_THROWS_AS(add_sensitivities(m, std::vector<std::size_t>{99}), std::invalid_argument);
   CHECK_THROWS_AS(add_sensitivities(m, std::vector<std::size_t>{0, 0}), std::invalid_argument);
 }
+
+TEST_CASE("a parameter that acts only at events gets sensitivity states (issue 15)") {
+  // e only in a reinit, T only in an event time, hc only in a when-condition:
+  // none of them is in the continuous equations, yet each moves the states.
+  const std::string text = R"(
+    model Ball
+      parameter Real g = 9.81, e = 0.8, T = 0.3, hc = 0, unused = 2;
+      Real h(start = 1, fixed = true), v(start = 0, fixed = true), w(start = 0, fixed = true);
+    equation
+      der(h) = v; der(v) = -g; der(w) = 1;
+      when h < hc then reinit(v, -e*pre(v)); end when;
+      when time > T then reinit(w, 0); end when;
+    end Ball;)";
+  for (const char* name : {"e", "T", "hc"}) {
+    OdeModel m = lower_text(text);
+    const std::size_t k = *m.parameter_index(name);
+    add_sensitivities(m, std::vector<std::size_t>{k});
+    INFO(name);
+    CHECK(m.states.size() == 2 * m.num_base_states());
+  }
+  OdeModel m = lower_text(text);
+  add_sensitivities(m, std::vector<std::size_t>{*m.parameter_index("unused")});
+  CHECK(m.states.size() == m.num_base_states());  // acts nowhere: structurally zero
+  OdeModel only_g = lower_text(text);
+  add_sensitivities(only_g, std::vector<std::size_t>{*only_g.parameter_index("g")});
+  CHECK(only_g.states.size() == 2 * only_g.num_base_states());  // g moves h, hence the bounce
+}

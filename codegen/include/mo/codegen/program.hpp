@@ -114,6 +114,21 @@ struct WhenCode {
   std::vector<std::pair<std::size_t, Slot>> reinits;  ///< (state index, value slot)
 };
 
+/// Derivatives of the event map (symbolic/event_tangents.hpp) as sections.
+/// `rhs` recomputes the steps with every relation on an indicator valued from
+/// cross[] (f just before or just after an event); `tangent` then gives the
+/// indicators' tangents along the seeds, and whens[k] the tangents of
+/// when-clause k's values. Empty (sections -1) for a model without events.
+struct EventTangentCode {
+  int rhs = -1, tangent = -1;
+  std::vector<int> whens;              ///< per when-clause, a section index
+  std::vector<Slot> seed_x, seed_p;    ///< δx, δp
+  Slot seed_t = 0;                     ///< δt
+  std::vector<Slot> indicator_slots;   ///< δg_k after `tangent`
+  std::vector<Slot> assign_slots;      ///< δ(value) per assignment, in WhenCode order
+  std::vector<Slot> reinit_slots;      ///< δ(value) per reinit, in WhenCode order
+};
+
 /// Where the fixed variables live.
 struct SlotLayout {
   Slot states = 0, inputs = 0, parameters = 0, time = 0, discrete = 0, pre_discrete = 0;
@@ -140,6 +155,7 @@ struct Program {
   std::vector<Slot> condition_slots;   ///< when-condition k after conditions
   std::vector<std::pair<Slot, Slot>> pre_copies;  ///< (pre(v) slot, v slot) of non-discrete v
   std::vector<WhenCode> whens;
+  EventTangentCode event_tangents;        ///< sensitivities through events
   std::array<JacobianCode, 7> jacobians;  ///< in mo::runtime::Jacobian order
   std::array<HessianCode, 2> hessians;    ///< in mo::runtime::Hessian order (f, h)
   std::vector<double> start_values;       ///< x0 at the default parameters

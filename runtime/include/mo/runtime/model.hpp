@@ -132,6 +132,14 @@ struct EventResponse {
   bool terminate = false;         ///< terminate() was called: simulation ends here
 };
 
+/// One direction along which the event map is differentiated: the derivative
+/// of (x, p, t) at the event instant. handle_event_tangent() updates `x`.
+struct EventTangent {
+  std::span<double> x;         ///< δx, nx values; on return δx after the handler call
+  std::span<const double> p;   ///< δp, np values
+  double t = 0.0;              ///< δt (the event time's derivative)
+};
+
 /// A model compiled to C++: generated code derives from this class.
 ///
 /// Threading: an instance owns its scratch (work slots) and its discrete
@@ -210,6 +218,36 @@ public:
     (void)cause, (void)x, (void)u, (void)p;
     return {};
   }
+  // --- derivatives through events (sensitivities; see docs/events.md) ---------
+
+  /// True if rhs_at_event, event_indicator_tangent and handle_event_tangent
+  /// are implemented (generated models with events).
+  [[nodiscard]] virtual bool provides_event_tangents() const { return false; }
+  /// xdot = f at an event instant, every relation on indicator i valued as
+  /// after a crossing in direction relations_from[i] (0: evaluated as is).
+  /// Pass the negated crossings for f just before the event.
+  virtual void rhs_at_event(double t, std::span<const double> x, std::span<const double> u,
+                            std::span<const double> p, std::span<const int> relations_from,
+                            std::span<double> xdot);
+  /// dg = g_x dx + g_p dp + g_t dt for every indicator (inputs held fixed),
+  /// relations valued as in rhs_at_event. Throws std::logic_error (an
+  /// internal error) unless provides_event_tangents().
+  virtual void event_indicator_tangent(double t, std::span<const double> x,
+                                       std::span<const double> u, std::span<const double> p,
+                                       std::span<const int> relations_from,
+                                       std::span<const double> dx, std::span<const double> dp,
+                                       double dt, std::span<double> dg);
+  /// handle_event(), and carries each direction through it: a reinitialised
+  /// state's δx becomes r_x δx + r_p δp + r_t δt (discrete variables held
+  /// fixed). If a fired when-clause assigns a discrete variable a value with a
+  /// nonzero derivative, `unsupported` names it (its sensitivity is not
+  /// carried). Throws std::logic_error unless provides_event_tangents().
+  virtual EventResponse handle_event_tangent(const EventCause& cause, std::span<double> x,
+                                             std::span<const double> u,
+                                             std::span<const double> p,
+                                             std::span<EventTangent> directions,
+                                             std::string& unsupported);
+
   /// Current discrete variables d (for results and for save/restore).
   [[nodiscard]] virtual std::span<double> discrete() { return {}; }
 

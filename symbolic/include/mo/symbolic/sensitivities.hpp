@@ -5,7 +5,10 @@
 //   d(y)/d(p_k) outputs            = dy/dp_k along the same direction.
 //
 // Only structurally nonzero sensitivities exist: S_ik is a state only if x_i
-// depends on p_k through its start value or its dynamics.
+// depends on p_k through its start value or its dynamics, or if p_k reaches
+// an event expression (indicator, when-condition, reinit, discrete
+// assignment): then every base state gets one, since the jump of S at the
+// event (docs/events.md) may reach any state.
 #pragma once
 
 #include <span>

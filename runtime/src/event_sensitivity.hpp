@@ -1,0 +1,54 @@
+// Forward sensitivities through one event instant (internal to simulate.cpp).
+//
+// With τ the event time, g the indicator that crossed and x⁺ = r(x⁻, p, t):
+//   dτ/dp = −(g_x S⁻ + g_p) / (g_x f⁻ + g_t)
+//   S⁺    = r_x S⁻ + r_p + (r_x f⁻ + r_t − f⁺) dτ/dp
+// computed as the tangent of the event map along δ = (S⁻ + f⁻ dτ/dp, e_p,
+// dτ/dp), minus f⁺ dτ/dp (the model's event tangents, model.hpp).
+#pragma once
+
+#include <Eigen/Dense>
+
+#include <span>
+#include <string>
+#include <vector>
+
+#include "mo/runtime/model.hpp"
+
+namespace mo::runtime::detail {
+
+/// One event instant's sensitivity jump: construct before the first handler
+/// call, call handle() instead of Model::handle_event, then finish().
+class SensitivityJump {
+public:
+  /// `s`: S⁻, column j = ∂x/∂p_{params[j]} for the first s.rows() states.
+  /// `crossings` empty for a time event (its time does not depend on p).
+  /// Requires model.provides_event_tangents().
+  SensitivityJump(Model& model, double t, std::span<const double> x, std::span<const double> u,
+                  std::span<const double> p, std::span<const int> crossings,
+                  const Eigen::MatrixXd& s, std::span<const int> params);
+
+  /// Model::handle_event_tangent with this instant's directions.
+  EventResponse handle(const EventCause& cause, std::span<double> x, std::span<const double> u,
+                       std::span<const double> p);
+
+  /// S⁺ (same shape as S⁻) for the state x⁺ after the last handler call.
+  Eigen::MatrixXd finish(double t, std::span<const double> x, std::span<const double> u,
+                         std::span<const double> p);
+
+  /// dτ/dp_j per direction (0 for a time event or a tangential crossing).
+  [[nodiscard]] const std::vector<double>& event_time_derivatives() const { return tau_; }
+  /// A discrete variable whose value depends on x, p or t through a fired
+  /// when-clause (its sensitivity is not carried); empty if none.
+  [[nodiscard]] const std::string& unsupported() const { return unsupported_; }
+
+private:
+  Model& model_;
+  std::vector<int> crossings_;
+  Eigen::Index rows_;
+  std::vector<std::vector<double>> dx_, dp_;
+  std::vector<double> tau_;
+  std::string unsupported_;
+};
+
+}  // namespace mo::runtime::detail

@@ -1,0 +1,44 @@
+// Derivatives of a model's event map, for sensitivities through events.
+//
+// At an event at time τ with indicator g(x, p, t) = 0 the state jumps,
+// x⁺ = r(x⁻, p, t) (r the when-clauses' reinits, identity elsewhere). Along
+// a direction (δx, δp, δt) of (x⁻, p, τ) this gives
+//
+//   δg = g_x δx + g_p δp + g_t δt        (one expression per indicator)
+//   δr = r_x δx + r_p δp + r_t δt        (one per reinit and discrete assignment)
+//
+// through the steps by the chain rule (directional.hpp), with pre(v) of a
+// continuous v moving like v. The run time uses them with
+//   dτ/dp = −(g_x S⁻ + g_p) / (g_x f⁻ + g_t)          (δ = (S⁻, e_p, 0) and (f⁻, 0, 1))
+//   S⁺    = δr[S⁻ + f⁻ dτ/dp, e_p, dτ/dp] − f⁺ dτ/dp
+// which is r_x S⁻ + r_p + (r_x f⁻ + r_t − f⁺) dτ/dp. Discrete variables and
+// inputs are held fixed along the direction (δd = δu = 0).
+#pragma once
+
+#include <vector>
+
+#include "mo/symbolic/directional.hpp"
+
+namespace mo::symbolic {
+
+/// The tangent of one when-clause's effect.
+struct WhenTangent {
+  std::vector<Expr> assignments;  ///< δ(value) per assignment, in the clause's order
+  std::vector<Expr> reinits;      ///< δ(value) per reinit, in the clause's order
+};
+
+/// The event map's derivatives along the seed direction.
+struct EventTangents {
+  std::vector<Expr> seed_x;  ///< δx, one symbol per state
+  std::vector<Expr> seed_p;  ///< δp, one symbol per parameter
+  Expr seed_t;               ///< δt
+  Directional directional;   ///< steps computing the step targets' derivatives
+  std::vector<Expr> indicators;  ///< δg per zero crossing
+  std::vector<WhenTangent> whens;  ///< per when-clause
+};
+
+/// Builds the event tangents of `model` in model.arena (seed symbols are new
+/// Algebraic symbols named "$event_seed..."); the model is not changed otherwise.
+EventTangents event_tangents(OdeModel& model);
+
+}  // namespace mo::symbolic

@@ -1,0 +1,74 @@
+// Sensitivities that stay true through events (issue 15): a bouncing ball
+// (reinit), a time event whose time is a parameter with several clauses and
+// an event iteration at one instant, a diode-like if-expression (the
+// right-hand side jumps, no reinit), a discrete mode read by an if-expression
+// and stick-slip friction. Each: generated sensitivity states and CVODES'
+// module (rtol 1e-10) vs central differences of simulations (rtol 1e-12,
+// step 1e-4 relative), at output times more than 1e-3 from an event.
+#include "e2e/cli.hpp"
+#include "e2e/event_sensitivity_check.hpp"
+
+using namespace mo;
+using namespace mo::e2e;
+
+namespace {
+
+tools::ModelSource data_model(const std::string& name) {
+  return {kData + name + ".mo", name, {}, true};
+}
+
+/// Runs the three ways and checks both sensitivity kinds against the differences.
+EventSensitivityRun check(const std::string& id, const std::string& model,
+                          const std::vector<std::string>& parameters, const runtime::OutputGrid& grid,
+                          double tolerance) {
+  const auto run = run_through_events(id, data_model(model), parameters, grid, 1e-10, 1e-4);
+  const double generated = worst_relative(run, run.generated, 1e-3, 1e-6);
+  const double cvodes = worst_relative(run, run.cvodes, 1e-3, 1e-6);
+  WARN(model << ": " << run.restarts << " crossings; sensitivities vs central differences, "
+             << "worst relative difference: generated " << generated << ", CVODES " << cvodes);
+  CHECK(run.restarts > 0);
+  CHECK(generated < tolerance);
+  CHECK(cvodes < tolerance);
+  return run;
+}
+
+}  // namespace
+
+TEST_CASE("bouncing ball: sensitivities jump at the bounce as finite differences do", "[events][sensitivities]") {
+  const auto grid = runtime::OutputGrid::uniform(0, 1, 20);
+  const auto run = check("e2e_ev_ball", "BouncingBall", {"g", "e", "h0"}, grid, 1e-5);
+  // The issue's table: d(h)/d(g) at t = 0.5 and d(h)/d(e) at t = 0.8.
+  CHECK(run.generated[10](0, 0) == Approx(0.0782).margin(5e-4));
+  CHECK(run.generated[16](0, 1) == Approx(1.544).margin(1e-3));
+  CHECK(run.generated[10](0, 0) == Approx(run.differences[10](0, 0)).margin(1e-5));
+  CHECK(run.generated[16](0, 1) == Approx(run.differences[16](0, 1)).margin(1e-5));
+}
+
+TEST_CASE("a time event at a parameter time, two clauses and an event iteration at one instant",
+          "[events][sensitivities]") {
+  check("e2e_ev_kick", "TimedKick", {"T", "J", "dx", "k"}, runtime::OutputGrid::uniform(0, 2, 40), 1e-5);
+}
+
+TEST_CASE("a diode-like if-expression: the right-hand side jumps", "[events][sensitivities]") {
+  check("e2e_ev_diode", "DiodeRC", {"Vf", "Roff", "A", "C"}, runtime::OutputGrid::uniform(0, 3, 60), 1e-4);
+}
+
+TEST_CASE("a discrete mode set by a when-clause and read by an if-expression", "[events][sensitivities]") {
+  check("e2e_ev_mode", "FrictionMode", {"xb", "Fb", "k", "vs"}, runtime::OutputGrid::uniform(0, 4, 40), 1e-5);
+}
+
+TEST_CASE("stick-slip friction: mode, reinit and a force step at a parameter time",
+          "[events][sensitivities]") {
+  check("e2e_ev_stickslip", "StickSlip", {"k", "Fc", "tF", "F1"}, runtime::OutputGrid::uniform(0, 10, 100), 1e-4);
+}
+
+TEST_CASE("a study on a model with events is refused with the when-clause named, never 'success'",
+          "[events][studies]") {
+  const fs::path dir = scratch("study_events");
+  const Run r = morun(quoted(kData + "BallControl.mop") + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("BallControl.mop:14:3: error:") != std::string::npos);
+  CHECK(r.err.find("when h < 0") != std::string::npos);
+  CHECK(!fs::exists(dir / "out" / "summary.json"));
+}

@@ -1,0 +1,74 @@
+// Refusing studies on models with events; see study_events.hpp.
+#include "study_events.hpp"
+
+#include <vector>
+
+#include "mo/symbolic/printer.hpp"
+
+namespace mo::tools {
+
+namespace {
+
+namespace ast = frontend::ast;
+
+bool is_relation(const ast::Expr& e) {
+  return e.kind == ast::ExprKind::Binary &&
+         (e.op == ast::Op::Lt || e.op == ast::Op::Le || e.op == ast::Op::Gt || e.op == ast::Op::Ge);
+}
+
+/// The first relation under `root` (iterative: expressions may be deep).
+const ast::Expr* first_relation(const ast::Expr* root) {
+  std::vector<const ast::Expr*> stack{root};
+  while (!stack.empty()) {
+    const ast::Expr* e = stack.back();
+    stack.pop_back();
+    if (!e) continue;
+    if (is_relation(*e)) return e;
+    for (auto it = e->args.rbegin(); it != e->args.rend(); ++it) stack.push_back(it->get());
+  }
+  return nullptr;
+}
+
+/// The first when-equation, or else the first relation, in the equations.
+std::pair<const ast::Equation*, const ast::Expr*> first_switch(const frontend::flat::Model& flat) {
+  std::vector<const ast::Equation*> stack;
+  for (auto it = flat.equations.rbegin(); it != flat.equations.rend(); ++it) stack.push_back(&*it);
+  const ast::Expr* relation = nullptr;
+  while (!stack.empty()) {
+    const ast::Equation* eq = stack.back();
+    stack.pop_back();
+    if (eq->kind == ast::EquationKind::When) return {eq, nullptr};
+    if (!relation) relation = first_relation(eq->lhs.get());
+    if (!relation) relation = first_relation(eq->rhs.get());
+    for (const auto& b : eq->branches) {
+      if (!relation) relation = first_relation(b.condition.get());
+      for (auto it = b.body.rbegin(); it != b.body.rend(); ++it) stack.push_back(&*it);
+    }
+    for (auto it = eq->body.rbegin(); it != eq->body.rend(); ++it) stack.push_back(&*it);
+  }
+  return {nullptr, relation};
+}
+
+}  // namespace
+
+bool reject_events_in_study(const frontend::flat::Model& flat, const symbolic::OdeModel& ode,
+                            frontend::DiagnosticEngine& diags) {
+  if (ode.whens.empty() && ode.zero_crossings.empty()) return false;
+  const std::string what =
+      !ode.whens.empty()
+          ? "when " + symbolic::to_modelica(ode.arena, ode.whens.front().condition)
+          : "the relation " + symbolic::to_modelica(ode.arena, ode.zero_crossings.front()) +
+                " = 0 of an if-expression";
+  const std::string message =
+      "the model switches here (" + what + ", " + std::to_string(ode.zero_crossings.size()) +
+      " event indicators): optimal control, design and estimation use a collocation that "
+      "assumes a smooth model and would ignore this event; not supported yet (README, Known "
+      "limits)";
+  const auto [when, relation] = first_switch(flat);
+  const frontend::SourceRange range =
+      when ? when->range : relation ? relation->range : flat.optimization->range;
+  diags.report(frontend::DiagId::BadOptimization, range, message);
+  return true;
+}
+
+}  // namespace mo::tools
