@@ -74,7 +74,8 @@ private:
     }
     std::vector<std::string> names;
     for (auto t : set.toList()) {
-      if (t == g::ModelicaParser::CONSTRAINT && set.contains(g::ModelicaParser::IDENT))
+      if (t == static_cast<ssize_t>(g::ModelicaParser::CONSTRAINT) &&
+          set.contains(static_cast<ssize_t>(g::ModelicaParser::IDENT)))
         continue; // `constraint` is then just one more identifier
       if (t == static_cast<ssize_t>(antlr4::Token::EOF)) {
         names.push_back("end of file");
