@@ -174,7 +174,7 @@ static Tensor reduce(Flattener &f, const std::string &name, Tensor a, SourceRang
   if (a.elems.empty()) {
     if (name == "min" || name == "max")
       f.fail(DiagId::TypeMismatch, r, name + "() of an empty array");
-    return Tensor::scalar(ast::make_integer(name == "sum" ? 0 : 1, r));
+    return Tensor::scalar(ast::make_real(name == "sum" ? 0 : 1, r)); // as sum() of {} does
   }
   ExprPtr acc = std::move(a.elems[0]);
   for (std::size_t i = 1; i < a.elems.size(); ++i) {
