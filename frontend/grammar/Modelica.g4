@@ -7,13 +7,27 @@
 // ERROR_CHAR) so that the front end reports them with a precise message.
 grammar Modelica;
 
+@parser::members {
+/// One entry per enclosing class being parsed, true for an `optimization`
+/// class. `constraint` opens a constraint section there; anywhere else it is
+/// an ordinary identifier (the MSL names components so).
+std::vector<bool> optimization_classes;
+bool constraint_is_identifier() const {
+  return optimization_classes.empty() || !optimization_classes.back();
+}
+}
+
 stored_definition
     : (WITHIN name? ';')? (FINAL? class_definition ';')* EOF
     ;
 
 class_definition
-    : ENCAPSULATED? class_prefixes class_specifier
+@init { std::size_t enclosing = optimization_classes.size(); }
+    : ENCAPSULATED? class_prefixes
+      { optimization_classes.push_back(_localctx->class_prefixes()->OPTIMIZATION() != nullptr); }
+      class_specifier
     ;
+    finally { optimization_classes.resize(enclosing); }
 
 class_prefixes
     : PARTIAL?
@@ -124,7 +138,7 @@ condition_attribute
     ;
 
 declaration
-    : IDENT array_subscripts? modification?
+    : (IDENT | {constraint_is_identifier()}? CONSTRAINT) array_subscripts? modification?
     ;
 
 modification
@@ -241,7 +255,7 @@ for_indices
     ;
 
 for_index
-    : IDENT (IN expression)?
+    : (IDENT | {constraint_is_identifier()}? CONSTRAINT) (IN expression)?
     ;
 
 while_statement
@@ -335,7 +349,8 @@ name
     ;
 
 component_reference
-    : '.'? IDENT array_subscripts? ('.' IDENT array_subscripts?)*
+    : '.'? (IDENT | {constraint_is_identifier()}? CONSTRAINT) array_subscripts?
+      ('.' (IDENT | {constraint_is_identifier()}? CONSTRAINT) array_subscripts?)*
     ;
 
 function_call_args

@@ -212,8 +212,9 @@ void AstBuilder::component_clause(P::Component_clauseContext *ctx, ClassDef &cls
   for (auto *decl : ctx->component_list()->component_declaration()) {
     Component c;
     auto *d = decl->declaration();
-    c.name = ident(d->IDENT());
-    c.range = range(d->IDENT());
+    auto *name_token = d->IDENT() ? d->IDENT() : d->CONSTRAINT(); // `constraint` outside optimization
+    c.name = ident(name_token);
+    c.range = range(name_token);
     c.type = type;
     if (tp->PARAMETER()) c.variability = Variability::Parameter;
     if (tp->CONSTANT()) c.variability = Variability::Constant;
@@ -332,8 +333,9 @@ std::vector<ForIndex> AstBuilder::for_indices(P::For_indicesContext *ctx) {
   std::vector<ForIndex> out;
   for (auto *fi : ctx->for_index()) {
     ForIndex idx;
-    idx.name = ident(fi->IDENT());
-    idx.loc = range(fi->IDENT());
+    auto *name_token = fi->IDENT() ? fi->IDENT() : fi->CONSTRAINT(); // `constraint` outside optimization
+    idx.name = ident(name_token);
+    idx.loc = range(name_token);
     if (fi->expression())
       idx.range = expression(fi->expression());
     out.push_back(std::move(idx));
@@ -673,11 +675,12 @@ ExprPtr AstBuilder::function_argument(P::Function_argumentContext *ctx) {
 
 ComponentRef AstBuilder::component_reference(P::Component_referenceContext *ctx) {
   ComponentRef ref;
-  ref.global = ctx->getStart()->getType() != P::IDENT;
-  // Children: '.'? IDENT subscripts? ('.' IDENT subscripts?)*
+  ref.global = ctx->getStart()->getType() != P::IDENT && ctx->getStart()->getType() != P::CONSTRAINT;
+  // Children: '.'? IDENT subscripts? ('.' IDENT subscripts?)*, where
+  // CONSTRAINT stands for an IDENT outside optimization classes.
   for (auto *child : ctx->children) {
     if (auto *t = dynamic_cast<antlr4::tree::TerminalNode *>(child)) {
-      if (t->getSymbol()->getType() == P::IDENT)
+      if (t->getSymbol()->getType() == P::IDENT || t->getSymbol()->getType() == P::CONSTRAINT)
         ref.parts.push_back(RefPart{ident(t), {}});
     } else if (auto *s = dynamic_cast<P::Array_subscriptsContext *>(child)) {
       ref.parts.back().subscripts = array_subscripts(s);

@@ -36,6 +36,16 @@ ValueKind value_kind(const Expr &e, const flat::Model &m) {
   }
 }
 
+/// "a scalar" or "[2, 3]".
+std::string sizes_text(const std::vector<int> &dims) {
+  if (dims.empty())
+    return "a scalar";
+  std::string s = "[";
+  for (std::size_t i = 0; i < dims.size(); ++i)
+    s += (i ? ", " : "") + std::to_string(dims[i]);
+  return s + "]";
+}
+
 const char *value_kind_text(ValueKind k) {
   return k == ValueKind::String ? "a String" : k == ValueKind::Boolean ? "a Boolean" : "a number";
 }
@@ -210,10 +220,13 @@ void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<as
     Tensor r = expr(*eq.rhs, s);
     if (l.dims != r.dims && !(eq.kind == EquationKind::Constraint && r.is_scalar()))
       fail(DiagId::TypeMismatch, eq.range,
-           fmt::format("the two sides of this equation have different sizes ({} and {} elements)",
-                       l.elems.size(), r.elems.size()));
+           fmt::format("the two sides of this equation have different sizes ({} and {})",
+                       sizes_text(l.dims), sizes_text(r.dims)));
     for (std::size_t i = 0; i < l.elems.size(); ++i) {
-      ValueKind lk = value_kind(*l.elems[i], *model_), rk = value_kind(*r.elems[0], *model_);
+      // The right side's element i (a scalar right side is reused): element
+      // 0 of an array has already been moved out when i > 0.
+      const Expr &r_i = *r.elems[r.is_scalar() ? 0 : i];
+      ValueKind lk = value_kind(*l.elems[i], *model_), rk = value_kind(r_i, *model_);
       if (lk == ValueKind::String || rk == ValueKind::String)
         fail(DiagId::TypeMismatch, eq.range, "strings cannot appear in equations");
       if (eq.kind == EquationKind::Simple && lk != rk)
@@ -224,7 +237,7 @@ void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<as
       f.rel = eq.rel;
       f.range = eq.range;
       f.lhs = std::move(l.elems[i]);
-      f.rhs = r.is_scalar() ? r.elems[0]->clone() : std::move(r.elems[i]);
+      f.rhs = r.is_scalar() ? r_i.clone() : std::move(r.elems[i]);
       out.push_back(std::move(f));
     }
     return;

@@ -156,7 +156,9 @@ static const ast::Component *find_component(Flattener &f, ClassNode *cls, const 
       owner = cls;
       return &c;
     }
-  for (auto &[ext, base] : f.bases(cls))
+  // Silent: this probes enclosing classes for a constant; a broken extends
+  // there is reported where that class is used, not at every name searched.
+  for (auto &[ext, base] : f.bases(cls, false))
     if (auto *c = find_component(f, base, name, owner, depth + 1))
       return c;
   return nullptr;
@@ -398,21 +400,12 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
   case ExprKind::Array: {
     std::vector<Tensor> parts;
     if (!e.iterators.empty()) {
-      if (e.iterators.size() != 1 || e.args.size() != 1)
-        fail(DiagId::Unsupported, e.range, "array constructors with several iterators are not supported");
-      std::vector<double> values = eval_range(*e.iterators[0].range, s);
-      LoopEnv env = s.env ? *s.env : LoopEnv{};
-      for (double v : values) {
-        env.values.emplace_back(e.iterators[0].name, v);
-        Scope inner = s;
-        inner.env = &env;
-        parts.push_back(expr(*e.args[0], inner));
-        env.values.pop_back();
-      }
-    } else {
-      for (const auto &a : e.args)
-        parts.push_back(expr(*a, s));
+      if (e.args.size() != 1)
+        fail(DiagId::Unsupported, e.range, "an array constructor with iterators has one expression");
+      return comprehension(*e.args[0], e.iterators, s, e.range);
     }
+    for (const auto &a : e.args)
+      parts.push_back(expr(*a, s));
     Tensor t;
     t.dims.push_back(static_cast<int>(parts.size()));
     for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -425,19 +418,8 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
     }
     return t;
   }
-  case ExprKind::Matrix: {
-    Tensor t;
-    int cols = -1;
-    for (const auto &row : e.rows) {
-      if (cols >= 0 && static_cast<int>(row.size()) != cols)
-        fail(DiagId::TypeMismatch, e.range, "the rows of this matrix have different lengths");
-      cols = static_cast<int>(row.size());
-      for (const auto &x : row)
-        t.elems.push_back(scalar_expr(*x, s));
-    }
-    t.dims = {static_cast<int>(e.rows.size()), cols};
-    return t;
-  }
+  case ExprKind::Matrix:
+    return matrix_constructor(e, s);
   case ExprKind::Range: {
     std::vector<double> values = eval_range(e, s);
     Tensor t;
@@ -461,6 +443,8 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
                        lo == hi ? std::to_string(lo) : fmt::format("{} to {}", lo, hi), hi == 1 ? "" : "s",
                        e.args.size()));
   };
+  if (Tensor t; array_function(e, s, t))
+    return t;
   if (e.ref.is_simple()) {
     if (name == "homotopy") {
       for (const auto &na : e.named)
@@ -785,6 +769,13 @@ long long Flattener::eval_int(const Expr &e, const Scope &s) {
 }
 
 std::vector<double> Flattener::eval_range(const Expr &e, const Scope &s) {
+  if (e.kind == ExprKind::Ref) // `for p in Phase`: an enumeration type's literals
+    if (int n = enumeration_size(e.ref, s, e.range); n >= 0) {
+      std::vector<double> out;
+      for (int i = 1; i <= n; ++i)
+        out.push_back(i);
+      return out;
+    }
   if (e.kind != ExprKind::Range) {
     Tensor t = expr(e, s);
     if (t.dims.size() > 1)

@@ -213,7 +213,7 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
   for (const auto &d : comp.dims) {
     if (d->kind == ast::ExprKind::Colon)
       fail(DiagId::Unsupported, d->range, "arrays of unknown size ':' are not supported");
-    long long n = eval_int(*d, here);
+    long long n = dimension_size(*d, here);
     if (n < 0 || n > 10'000'000)
       fail(DiagId::BadSubscript, d->range, "array size " + std::to_string(n) + " is out of range");
     inst.dims.push_back(static_cast<int>(n));

@@ -58,7 +58,7 @@ static bool builtin_type(const std::string &n, flat::BaseType &t) {
   return true;
 }
 
-std::vector<std::pair<const ast::Extends *, ClassNode *>> Flattener::bases(ClassNode *cls) {
+std::vector<std::pair<const ast::Extends *, ClassNode *>> Flattener::bases(ClassNode *cls, bool report) {
   std::vector<std::pair<const ast::Extends *, ClassNode *>> out;
   if (!cls || !cls->def)
     return out;
@@ -71,8 +71,9 @@ std::vector<std::pair<const ast::Extends *, ClassNode *>> Flattener::bases(Class
       flat::BaseType t;
       if (ext.base.parts.size() == 1 && builtin_type(ext.base.parts[0], t))
         continue; // `extends Real` in a type: handled as a short class would be
-      diags_.report(DiagId::UnknownClass, ext.base.range,
-                    "unknown class '" + ext.base.str() + "' in extends clause");
+      if (report)
+        diags_.report(DiagId::UnknownClass, ext.base.range,
+                      "unknown class '" + ext.base.str() + "' in extends clause");
       continue;
     }
     out.emplace_back(&ext, base);
@@ -173,7 +174,7 @@ bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, Resolv
       out.causality = d.short_causality;
     for (const auto &dim : d.short_dims) {
       Scope s{nullptr, cls->parent, nullptr};
-      out.dims.push_back(static_cast<int>(eval_int(*dim, s)));
+      out.dims.push_back(static_cast<int>(dimension_size(*dim, s)));
     }
     ClassNode *next = lookup_class(cls->parent, d.short_base->parts, d.short_base->global,
                                    d.short_base->range, false);

@@ -137,8 +137,9 @@ public:
                           SourceRange where, bool report = true);
   ClassNode *find_member_class(ClassNode *cls, const std::string &name, unsigned depth = 0);
   bool resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out);
-  /// The bases of `cls` (its `extends`), resolved; reports unknown bases.
-  std::vector<std::pair<const ast::Extends *, ClassNode *>> bases(ClassNode *cls);
+  /// The bases of `cls` (its `extends`), resolved; reports unknown bases
+  /// unless `report` is false (a search that only probes enclosing classes).
+  std::vector<std::pair<const ast::Extends *, ClassNode *>> bases(ClassNode *cls, bool report = true);
 
   // -- instances (flatten_instance.cpp)
   void instantiate_class(Instance &inst, ClassNode *cls, const Modifier &mod, unsigned depth);
@@ -179,6 +180,20 @@ public:
   /// Flattens and evaluates `e` as an integer (dims, subscripts, ranges).
   long long eval_int(const ast::Expr &e, const Scope &s);
   std::vector<double> eval_range(const ast::Expr &e, const Scope &s);
+
+  // -- arrays (flatten_arrays.cpp)
+  /// Number of literals when `ref` names an enumeration type, else -1.
+  int enumeration_size(const ast::ComponentRef &ref, const Scope &s, SourceRange where);
+  /// Size of one declared dimension: an Integer expression or an enumeration type.
+  long long dimension_size(const ast::Expr &d, const Scope &s);
+  /// `{body for i in r1, j in r2, ...}`: the last iterator runs along the first dimension.
+  Tensor comprehension(const ast::Expr &body, const std::vector<ast::ForIndex> &iterators, const Scope &s,
+                       SourceRange where);
+  /// `[a, b; c, d]` with scalar, vector or matrix elements (Modelica's cat/promote rules).
+  Tensor matrix_constructor(const ast::Expr &e, const Scope &s);
+  /// The array built-ins and reductions with iterators: true and `out` set
+  /// when `call` is one of them; reports bad arguments.
+  bool array_function(const ast::Expr &call, const Scope &s, Tensor &out);
 
   // -- equations and connections (flatten_equations.cpp, flatten_connect.cpp)
   void flatten_equations(Instance &inst);

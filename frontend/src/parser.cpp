@@ -17,13 +17,15 @@ namespace {
 
 /// An ANTLR char stream over raw bytes: each byte is one "character", so
 /// token indices are byte offsets and invalid UTF-8 cannot throw. Non-ASCII
-/// bytes only ever occur inside strings and comments of a valid file.
+/// bytes only ever occur inside strings and comments of a valid file. A
+/// UTF-8 byte-order mark at the start reads as blanks (offsets unchanged).
 class ByteStream : public antlr4::ANTLRInputStream {
 public:
   explicit ByteStream(std::string_view text) {
     _data.reserve(text.size());
-    for (unsigned char c : text)
-      _data.push_back(static_cast<char32_t>(c));
+    const std::size_t bom = text.starts_with("\xEF\xBB\xBF") ? 3 : 0;
+    for (std::size_t i = 0; i < text.size(); ++i)
+      _data.push_back(i < bom ? U' ' : static_cast<char32_t>(static_cast<unsigned char>(text[i])));
     p = 0;
   }
 };
@@ -72,6 +74,9 @@ private:
     }
     std::vector<std::string> names;
     for (auto t : set.toList()) {
+      if (t == static_cast<ssize_t>(g::ModelicaParser::CONSTRAINT) &&
+          set.contains(static_cast<ssize_t>(g::ModelicaParser::IDENT)))
+        continue; // `constraint` is then just one more identifier
       if (t == static_cast<ssize_t>(antlr4::Token::EOF)) {
         names.push_back("end of file");
         continue;
@@ -219,6 +224,7 @@ std::unique_ptr<ast::StoredDefinition> parse_here(FileId file, const SourceManag
   } catch (const antlr4::ParseCancellationException &) {
     tokens.seek(0);
     parser.reset();
+    parser.optimization_classes.clear();
     parser.setErrorHandler(std::make_shared<antlr4::DefaultErrorStrategy>());
     parser.getInterpreter<antlr4::atn::ParserATNSimulator>()->setPredictionMode(
         antlr4::atn::PredictionMode::LL);
