@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <iostream>
 #include <set>
 #include <sstream>
 
@@ -79,11 +80,17 @@ std::vector<std::string> aux_files(const std::string& corpus, const std::string&
   return files;
 }
 
+/// modelicat names a scalarised array element `a.[2]`, mocompile `a[2]`.
+std::string scalar_name(std::string name) {
+  for (std::size_t k; (k = name.find(".[")) != std::string::npos;) name.erase(k, 1);
+  return name;
+}
+
 std::set<std::string> unknown_names(const frontend::flat::Model& m) {
   std::set<std::string> names;
   for (const auto& v : m.variables)
     if (v.variability != frontend::ast::Variability::Parameter && v.variability != frontend::ast::Variability::Constant)
-      names.insert(v.name);
+      names.insert(scalar_name(v.name));
   return names;
 }
 
@@ -243,6 +250,8 @@ DiagramResult check_diagram_in_process(const std::string& corpus, const std::str
 /// failed step (named by its signal), not the end of the whole check.
 std::vector<StepResult> in_child(std::size_t count, const std::function<std::vector<StepResult>()>& steps) {
   int fd[2];
+  std::cout.flush();  // the child must not print the parent's buffered output again
+  std::cerr.flush();
   if (::pipe(fd) != 0) return steps();
   const pid_t pid = ::fork();
   if (pid == 0) {
