@@ -2,7 +2,8 @@
 // at t = 0.5 (an event) and a nonlinear element solved at every output time.
 model Resistive
   parameter Real R1 = 2, R2 = 3, V = 10;
-  Real v, i, w;
+  Real v;
+  output Real i, w;
 equation
   v = V * sin(time);
   i = v / (if time > 0.5 then R1 else R1 + R2);
