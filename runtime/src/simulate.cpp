@@ -337,7 +337,13 @@ bool Simulation::set_up() {
     atol.data()[i] = options_.absolute_tolerance * std::abs(info_.states[i].nominal);
   CVodeSVtolerances(cv, options_.relative_tolerance, atol.v);
   CVodeSetMaxNumSteps(cv, options_.max_steps);
-  if (options_.max_step > 0.0) CVodeSetMaxStep(cv, options_.max_step);
+  if (options_.max_step > 0.0) {
+    CVodeSetMaxStep(cv, options_.max_step);
+  } else if (nx_ == 0 && grid_.times.size() > 1) {
+    // Without states nothing limits the step: keep the algebraic solves (and
+    // their Newton guesses) near the output times, one interval at a time.
+    CVodeSetMaxStep(cv, (grid_.times.back() - t0) / static_cast<double>(grid_.times.size() - 1));
+  }
 
   cvode_.matrix = SUNDenseMatrix(n, n, context_.ctx);
   cvode_.solver = SUNLinSol_Dense(x_->v, cvode_.matrix, context_.ctx);

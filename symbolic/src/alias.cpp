@@ -128,11 +128,11 @@ private:
         (derivative_link(t[0].first, t[1].first) || derivative_link(t[1].first, t[0].first)))
       return true;
     // Eliminate the lower-scored variable among those with a numeric
-    // coefficient. A differentiated variable (a state candidate) is only
-    // replaced by a plain alias ±keep: through a scaled or offset alias its
-    // start value (0 by default) would land on another variable.
-    const bool plain = a_.is_constant(form->rest, 0.0) && a_.is_constant(t[0].second) &&
-                       a_.is_constant(t[1].second) &&
+    // coefficient. A differentiated variable (a state candidate) is never
+    // replaced through a scaled alias (k·keep + c with |k| ≠ 1): der(keep)
+    // would become the state and its start value (0 by default) would put
+    // the differentiated variable elsewhere than the model's start.
+    const bool plain = a_.is_constant(t[0].second) && a_.is_constant(t[1].second) &&
                        std::abs(a_.constant_value(t[0].second)) == std::abs(a_.constant_value(t[1].second));
     int drop = -1, keep = -1;
     for (int i : {0, 1}) {
