@@ -70,10 +70,17 @@ runtime::Inputs inputs(const runtime::ModelInfo& info, const Options& opt) {
     if (!k) throw UsageError("--input: the model has no input '" + name + "'");
     signals[*k] = tools::parse_signal(name, spec);
   }
+  // An undriven input is 0 (a warning names them all), so the model still runs.
+  std::string undriven;
   for (std::size_t i = 0; i < signals.size(); ++i)
-    if (!signals[i])
-      throw UsageError("the model's input '" + info.inputs[i].name + "' needs a signal: --input " +
-                       info.inputs[i].name + "=sine:AMPLITUDE,FREQ | csv:FILE | const:VALUE");
+    if (!signals[i]) {
+      undriven += (undriven.empty() ? "'" : ", '") + info.inputs[i].name + "'";
+      signals[i] = runtime::constant_input(0.0);
+    }
+  if (!undriven.empty())
+    std::cerr << "morun: warning: undriven input" << (undriven.find(',') != std::string::npos ? "s " : " ")
+              << undriven << " set to 0 (drive with --input NAME=sine:AMP,FREQ | step:H,T | const:V | "
+              << "csv:FILE | pwc:FILE)\n";
   return runtime::Inputs(std::move(signals));
 }
 

@@ -46,8 +46,7 @@ void Flattener::check_balance() {
   std::size_t unknowns = 0, equations = 0;
   for (const auto &v : model_->variables)
     if (v.is_unknown() && v.type != flat::BaseType::String) ++unknowns;
-  for (const auto &eq : model_->equations)
-    equations += flat::equation_count(eq);
+  equations = balance_rows(*model_).size();
   if (unknowns == equations)
     return;
   const ast::ClassDef &def = *top_->cls->def;

@@ -159,6 +159,10 @@ void Flattener::finish_connections() {
     eq.rhs = ast::make_real(0, var.range);
     model_->equations.push_back(std::move(eq));
   }
+  if (!diags_.has_errors()) {
+    when_assignments_to_reinits();
+    mark_free_inputs();
+  }
   if (opts_.check_balance && !diags_.has_errors())
     check_balance();
 }

@@ -125,6 +125,11 @@ struct Scope {
 /// reported for the current equation or binding.
 struct Reported {};
 
+/// The scalar equations of the balance count, each as the unknowns it uses:
+/// equation_count(eq) rows per equation, except that a variable assigned in
+/// when-clauses is one row however many clauses assign it.
+std::vector<std::vector<std::int32_t>> balance_rows(const flat::Model &m);
+
 class Flattener {
 public:
   Flattener(Library::Impl &lib, DiagnosticEngine &diags, const FlattenOptions &opts)
@@ -226,6 +231,10 @@ public:
   void flatten_bindings();
   void flatten_optimization();
   void check_balance();
+  /// Inputs no equation defines become inputs of the model (flatten_free_inputs.cpp).
+  void mark_free_inputs();
+  /// `v = e` in a when-clause with der(v) elsewhere becomes reinit(v, e) (flatten_free_inputs.cpp).
+  void when_assignments_to_reinits();
   bool is_constant(const ast::Expr &flat_expr) const;
 };
 

@@ -167,6 +167,7 @@ int Simulation::rhs_callback(double t, N_Vector x, N_Vector xdot, void* self) {
   sim.evaluate_inputs(t);
   std::span<double> out(N_VGetArrayPointer(xdot), sim.nx_);
   sim.model_.rhs(t, {N_VGetArrayPointer(x), sim.nx_}, sim.u_, sim.p_, out);
+  if (sim.nx_ == 0) N_VGetArrayPointer(xdot)[0] = 0.0;  // the placeholder state of a model without states
   return all_finite(out) ? 0 : 1;  // recoverable: CVODES retries with a smaller step
 }
 
@@ -235,7 +236,6 @@ void Simulation::evaluate_inputs(double t) {
 
 std::string Simulation::validate() const {
   const auto& times = grid_.times;
-  if (nx_ == 0) return "model has no states";
   if (times.empty()) return "output grid is empty";
   for (std::size_t k = 0; k < times.size(); ++k) {
     if (!std::isfinite(times[k])) return fmt::format("output time {} is not finite", k);
@@ -273,8 +273,12 @@ void Simulation::fail_cvode(int flag, const char* call, double t) {
 
 bool Simulation::set_up() {
   double t0 = grid_.times.front();
-  auto n = static_cast<sunindextype>(nx_);
+  // A model without states (an algebraic model) is integrated with one
+  // placeholder state, der = 0, never recorded: every output time and event
+  // is then an algebraic solve at that time.
+  auto n = static_cast<sunindextype>(std::max<std::size_t>(nx_, 1));
   x_ = std::make_unique<Vector>(n, context_.ctx);
+  N_VConst(0.0, x_->v);
   std::span<double> x(x_->data(), nx_);
   model_.initial_state(p_, x);
 
@@ -333,11 +337,18 @@ bool Simulation::set_up() {
   if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeInit", t0), false;
   CVodeSetUserData(cv, this);
   Vector atol(n, context_.ctx);
+  N_VConst(options_.absolute_tolerance, atol.v);
   for (std::size_t i = 0; i < nx_; ++i)
     atol.data()[i] = options_.absolute_tolerance * std::abs(info_.states[i].nominal);
   CVodeSVtolerances(cv, options_.relative_tolerance, atol.v);
   CVodeSetMaxNumSteps(cv, options_.max_steps);
-  if (options_.max_step > 0.0) CVodeSetMaxStep(cv, options_.max_step);
+  if (options_.max_step > 0.0) {
+    CVodeSetMaxStep(cv, options_.max_step);
+  } else if (nx_ == 0 && grid_.times.size() > 1) {
+    // Without states nothing limits the step: keep the algebraic solves (and
+    // their Newton guesses) near the output times, one interval at a time.
+    CVodeSetMaxStep(cv, (grid_.times.back() - t0) / static_cast<double>(grid_.times.size() - 1));
+  }
 
   cvode_.matrix = SUNDenseMatrix(n, n, context_.ctx);
   cvode_.solver = SUNLinSol_Dense(x_->v, cvode_.matrix, context_.ctx);

@@ -101,7 +101,9 @@ private:
   int score(int v) {
     const DaeVar& d = var(v);
     const auto dots = std::count(d.info.name.begin(), d.info.name.end(), '.');
-    return (d.derivative != none ? 8 : 0) + (d.fixed ? 4 : 0) + (d.start_given ? 2 : 0) -
+    const int select = d.state_select == "always" ? 32 : d.state_select == "prefer" ? 16
+                     : d.state_select == "avoid" ? -16 : d.state_select == "never" ? -32 : 0;
+    return select + (d.derivative != none ? 8 : 0) + (d.fixed ? 4 : 0) + (d.start_given ? 2 : 0) -
            static_cast<int>(std::min<std::ptrdiff_t>(dots, 1));
   }
 
@@ -125,12 +127,18 @@ private:
         a_.constant_value(t[0].second) == -a_.constant_value(t[1].second) &&
         (derivative_link(t[0].first, t[1].first) || derivative_link(t[1].first, t[0].first)))
       return true;
-    // Eliminate the lower-scored variable among those with a numeric coefficient.
+    // Eliminate the lower-scored variable among those with a numeric
+    // coefficient. A differentiated variable (a state candidate) is never
+    // replaced through a scaled alias (k·keep + c with |k| ≠ 1): der(keep)
+    // would become the state and its start value (0 by default) would put
+    // the differentiated variable elsewhere than the model's start.
+    const bool plain = a_.is_constant(t[0].second) && a_.is_constant(t[1].second) &&
+                       std::abs(a_.constant_value(t[0].second)) == std::abs(a_.constant_value(t[1].second));
     int drop = -1, keep = -1;
     for (int i : {0, 1}) {
       const int j = 1 - i;
       if (!divisible(t[i].second) || var(t[i].first).integral != none ||
-          var(t[j].first).integral != none)
+          var(t[j].first).integral != none || (!plain && var(t[i].first).derivative != none))
         continue;
       if (drop == -1 || score(t[i].first) < score(drop)) {
         drop = t[i].first;

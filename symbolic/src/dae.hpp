@@ -25,6 +25,8 @@ struct DaeVar {
   Expr start;                ///< start expression (constant or over parameters), may be invalid
   bool fixed = false;        ///< start declared fixed = true
   bool start_given = false;  ///< a start attribute was declared
+  bool source_derivative = false;  ///< der() of it is in the model (after aliases), not made by index reduction
+  bool linear_derivative = false;  ///< ... in some equation with a time-invariant coefficient
   std::string state_select;  ///< "", never, avoid, default, prefer, always
   bool eliminated = false;   ///< removed by alias elimination
   frontend::SourceRange range;

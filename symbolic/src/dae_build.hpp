@@ -14,6 +14,12 @@ namespace mo::symbolic::detail {
 /// Builds the DAE of `flat`; nullopt after reporting errors to `diags`.
 std::optional<Dae> build_dae(const frontend::flat::Model& flat, frontend::DiagnosticEngine& diags);
 
+/// Marks the variables whose der() the (alias-reduced) equations contain
+/// (DaeVar::source_derivative), and those among them with a time-invariant
+/// coefficient in some equation (DaeVar::linear_derivative). Run before
+/// index reduction adds derivatives of its own (source_states.cpp).
+void mark_source_derivatives(Dae& dae);
+
 /// d/dt of `e`: every variable v with DAE index maps to der(v) (created on
 /// demand), time to 1; parameters, discrete variables and constants to 0.
 /// Inputs cannot be differentiated: `input_hit` is set if one is reached.

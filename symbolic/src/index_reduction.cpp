@@ -1,6 +1,7 @@
 // Pantelides' algorithm and dummy-derivative state selection; see
 // index_reduction.hpp.
 #include "index_reduction.hpp"
+#include "tiered_matching.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -190,6 +191,11 @@ int dummy_rank(const Dae& dae, int e, int v) {
   if (ss == "prefer") rank += 20;
   if (ss == "never") rank -= 8;
   if (ss == "avoid") rank -= 4;
+  // Then the variables the model differentiates (with a constant coefficient
+  // first, as a capacitor's C·der(v)), then those with a start value.
+  const DaeVar& base = dae.vars[at(chain_base(dae, v))];
+  if (base.source_derivative) rank += base.linear_derivative ? 8 : 6;
+  if (base.start_given) rank += 2;
   if (chain_base(dae, v) == dae.eqs[at(chain_root(dae, e))].lhs_var) rank -= 2;
   return rank;
 }
@@ -309,7 +315,7 @@ std::vector<bool> select_states(Dae& dae) {
   while (!level.empty()) {
     std::vector<int> columns;  // candidate variables of this level, by local index
     std::vector<int> local(dae.vars.size(), none);
-    std::vector<std::vector<int>> rows;
+    std::vector<std::vector<CostEdge>> rows;
     for (int e : level) {
       std::vector<int> c;
       for (int v : inc[at(e)])
@@ -318,23 +324,23 @@ std::vector<bool> select_states(Dae& dae) {
       for (int v : c) keyed.push_back({{dummy_rank(dae, e, v), -pivot_size(dae, point, e, v)}, v});
       std::stable_sort(keyed.begin(), keyed.end(),
                        [](const auto& a, const auto& b) { return a.first < b.first; });
-      for (std::size_t i = 0; i < c.size(); ++i) c[i] = keyed[i].second;
-      std::vector<int> row;
-      for (int v : c) {
+      std::vector<CostEdge> row;
+      for (const auto& [key, v] : keyed) {
         if (local[at(v)] == none) {
           local[at(v)] = static_cast<int>(columns.size());
           columns.push_back(v);
         }
-        row.push_back(local[at(v)]);
+        row.push_back({local[at(v)], key.first});
       }
       rows.push_back(std::move(row));
     }
-    const Matching m =
-        maximum_matching(Incidence::from_lists(static_cast<int>(columns.size()), rows));
+    // Dummies by rank: the best-ranked dummies of all equations of the level
+    // together, not equation by equation.
+    const std::vector<int> dummy_of = tiered_matching(rows, static_cast<int>(columns.size()));
     std::fill(candidate.begin(), candidate.end(), 0);
     std::vector<int> next;
     for (std::size_t r = 0; r < level.size(); ++r) {
-      const int col = m.unknown_of[r];
+      const int col = dummy_of[r];
       if (col == none) continue;
       const int dummy = columns[at(col)];
       const int integral = dae.vars[at(dummy)].integral;

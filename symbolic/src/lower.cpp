@@ -260,6 +260,7 @@ std::optional<OdeModel> lower(const frontend::flat::Model& flat,
   LowerStats st;
   st.aliases = eliminate_aliases(*dae).eliminated;
   if (options.trace) trace_alias(*dae, *options.trace);
+  mark_source_derivatives(*dae);
   const std::size_t before = dae->eqs.size();
   if (!pantelides(*dae, diags)) return std::nullopt;
   st.differentiated = dae->eqs.size() - before;

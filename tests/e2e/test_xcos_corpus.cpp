@@ -1,0 +1,27 @@
+// Issue 10: every diagram of the Xcos corpus (<shared>/xcos-corpus, real Xcos
+// files from Coselica's and Scilab's demos) flattens from both of its files,
+// lowers, simulates and matches Scilab's own simulation (bench/xcos_corpus.hpp
+// has the steps and tolerances). Skipped when the corpus is absent.
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <string>
+
+#include "xcos_corpus.hpp"
+
+using namespace mo::xcos_corpus;
+
+TEST_CASE("every Xcos corpus diagram matches Scilab", "[xcos][corpus]") {
+  const auto corpus = corpus_dir(MO_SOURCE_DIR);
+  if (!corpus) {
+    WARN("SKIPPED: no xcos-corpus beside the checkout (set MO_SHARED_DIR)");
+    return;
+  }
+  ::setenv("XDG_CACHE_HOME", MO_BINARY_DIR "/morun-test-cache", 1);  // never $HOME
+  const Libraries libs{*corpus + "/../third_party/coselica/Coselica.mo", MO_SCILAB_MACROS};
+  for (const auto& name : diagrams(*corpus)) {
+    const DiagramResult r = check_diagram(*corpus, name, libs);
+    INFO(table_row(r));
+    CHECK(r.passed());
+  }
+}

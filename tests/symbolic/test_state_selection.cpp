@@ -1,0 +1,47 @@
+// State selection of issue 10: dummy derivatives chosen by rank over a whole
+// level (tiered matching), and a state never moved through a scaled alias.
+#include <catch2/catch.hpp>
+
+#include "../frontend/compile.hpp"
+#include "../../symbolic/src/tiered_matching.hpp"
+#include "mo/symbolic/lower.hpp"
+
+using namespace mo;
+using mo::symbolic::detail::CostEdge;
+using mo::symbolic::detail::tiered_matching;
+
+TEST_CASE("tiered matching: cheap edges win over the whole level, not row by row", "[lower][states]") {
+  // Row 0 may take column 0 (cost 10) or 1 (13); row 1 only column 0 (10) or 2 (14).
+  // Row by row, row 0 would take column 0 and leave row 1 with cost 14.
+  const std::vector<std::vector<CostEdge>> rows{{{0, 10}, {1, 13}}, {{0, 10}, {2, 14}}};
+  CHECK(tiered_matching(rows, 3) == std::vector<int>{1, 0});
+}
+
+TEST_CASE("tiered matching is maximum", "[lower][states]") {
+  const std::vector<std::vector<CostEdge>> rows{{{0, 1}}, {{0, 1}, {1, 5}}, {{1, 2}, {2, 9}}};
+  const auto m = tiered_matching(rows, 3);
+  CHECK(m == std::vector<int>{0, 1, 2});
+  CHECK(tiered_matching({{{0, 1}}, {{0, 1}}}, 1)[1] == -1);
+}
+
+TEST_CASE("a differentiated variable is not eliminated through a scaled alias", "[lower][states]") {
+  const test::Compiled c = test::compile_text(R"(
+    model ScaledCapacitor
+      parameter Real R = 1000, C = 1e-3, V = 5;
+      Real vc;
+      Real ic, vr, ir;
+    equation
+      C*der(vc) = ic;
+      ic = ir;
+      vr = R*ir;
+      vc = V - vr;
+    end ScaledCapacitor;)");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  frontend::SourceManager sources;
+  frontend::DiagnosticEngine diags(sources);
+  const auto ode = symbolic::lower(*c.model, diags, {});
+  REQUIRE(ode);
+  REQUIRE(ode->states.size() == 1);
+  CHECK(ode->states[0].info.name == "vc");
+}
