@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -21,6 +22,7 @@
 #include "mo/frontend/diagnostics.hpp"
 #include "mo/runtime/simulate.hpp"
 #include "common.hpp"
+#include "measured_outputs.hpp"
 #include "pipeline.hpp"
 #include "study.hpp"
 
@@ -111,7 +113,7 @@ void write_measurements(const Options& opt, const runtime::ModelInfo& info,
   std::vector<std::size_t> columns;
   for (const auto& name : opt.measure) {
     const auto k = info.output_index(name);
-    if (!k) throw UsageError("--measure: the model has no output '" + name + "'");
+    if (!k) throw UsageError("--measure: the model has no variable '" + name + "'");
     columns.push_back(info.states.size() + *k);
   }
   std::mt19937_64 rng(opt.seed);
@@ -149,10 +151,15 @@ int run(const Options& opt) {
   if (!ode) return 1;
   tools::expose_start_parameters(*ode, opt.sets);  // --set x.start=v
   tools::expose_start_parameters(*ode, opt.sensitivities);
+  if (const auto unknown = tools::add_measured_outputs(*ode, opt.measure); !unknown.empty())
+    throw UsageError("--measure: the model has no variable '" + unknown.front() + "'");
   if (auto error = tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty())
     throw UsageError(error);
   if (opt.aliases)  // eliminated variables become extra outputs, so extra columns
-    ode->outputs.insert(ode->outputs.end(), ode->eliminated.begin(), ode->eliminated.end());
+    for (const auto& e : ode->eliminated)
+      if (std::none_of(ode->outputs.begin(), ode->outputs.end(),
+                       [&](const auto& y) { return y.info.name == e.info.name; }))
+        ode->outputs.push_back(e);
   tools::BuiltModel built = tools::build_model(*ode, opt.jobs, "morun");
   const auto& compiled = built.compiled;
   runtime::Model* model = built.model.get();
@@ -219,7 +226,7 @@ int main(int argc, char** argv) {
   app.add_flag("--plot", opt.plot, "Also write PNG plots (needs gnuplot)");
   app.add_option("-j,--jobs", opt.jobs, "Compile this many generated files in parallel")->capture_default_str();
   app.add_option("--measure", opt.measure,
-                 "Also write DIR/measurements.csv: these outputs at the output times after 0")
+                 "Also write DIR/measurements.csv: these variables (outputs, states, algebraic variables, aliases) at the output times after 0")
       ->delimiter(',');
   app.add_option("--noise", opt.noise, "Standard deviation of white noise added to --measure outputs")
       ->capture_default_str()

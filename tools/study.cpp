@@ -8,10 +8,12 @@
 #include <optional>
 #include <iostream>
 
+#include "measured_outputs.hpp"
 #include "pipeline.hpp"
 #include "study_events.hpp"
 #include "study_internal.hpp"
 #include "study_output.hpp"
+#include "study_time_scaling.hpp"
 
 namespace fs = std::filesystem;
 
@@ -46,7 +48,7 @@ std::size_t output_index(const runtime::ModelInfo& info, const std::string& name
   for (const auto& y : info.outputs)
     if (!y.name.starts_with("$") && !y.name.starts_with("d("))
       known += (known.empty() ? "" : ", ") + y.name;
-  throw UsageError("'" + name + "' is not an output of the model (outputs: " + known + ")");
+  throw UsageError("'" + name + "' is not a variable of the model (outputs: " + known + ")");
 }
 
 std::size_t parameter_index(const runtime::ModelInfo& info, const std::string& name) {
@@ -160,9 +162,24 @@ int report(const std::string& task, const runtime::OptimizationResult& r) {
 }
 
 int optimal_control(Study& s) {
-  const runtime::OptimalControlProblem p = base_problem(s);
-  const runtime::OptimizationResult r = runtime::solve(*s.built.model, p);
-  write_optimization_outputs(s.cli.output, s.info(), p, r, nlohmann::json::object());
+  runtime::OptimalControlProblem p = base_problem(s);
+  const auto& free = s.problem.free_final_time;
+  std::optional<std::size_t> tf_index;
+  if (free) {
+    tf_index = parameter_index(s.info(), free->parameter);
+    bound_final_time(p, *tf_index, free->start);
+  }
+  runtime::OptimizationResult r = runtime::solve(*s.built.model, p);
+  nlohmann::json extra = nlohmann::json::object();
+  if (free) {  // report in real time: [t0, tf] instead of τ ∈ [0, 1]
+    const double tf = r.parameters.empty() ? std::nan("") : r.parameters[*tf_index];
+    rescale_result(r, free->start, tf);
+    p.t0 = free->start;
+    p.tf = tf;
+    extra["final_time"] = tf;
+    std::cerr << fmt::format("morun: free final time: {:.6g}\n", tf);
+  }
+  write_optimization_outputs(s.cli.output, s.info(), p, r, extra);
   if (s.opt.plot || s.cli.plot) plot_optimization(s.cli.output, s.info(), p, r);
   return report("optimal control", r);
 }
@@ -266,6 +283,16 @@ std::vector<std::string> sensitivity_parameters(const flat::Model& flat, const S
   return out;
 }
 
+/// The variables a task measures: `outputs`, and for an estimation the
+/// columns of its data files (any variable of the model may be measured).
+std::vector<std::string> measured_names(const StudyOptions& o, const std::string& study_file) {
+  std::vector<std::string> names = o.outputs;
+  if (o.task == "estimation")
+    for (const auto& file : o.data)
+      for (auto& column : csv_columns(resolve_path(study_file, file))) names.push_back(std::move(column));
+  return names;
+}
+
 }  // namespace
 
 }  // namespace detail
@@ -281,12 +308,24 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
   ParsedOptions parsed = parse_study_options(*flat.optimization, overrides, diags);
   auto problem = add_problem_outputs(flat, diags);
   for (const auto& e : parsed.errors) std::cerr << "morun: error: " << e << "\n";
+  const bool constrained = parsed.options.task == "optimal_control" || parsed.options.task == "design";
+  if (problem && constrained) add_bound_constraints(flat, *problem);
+  if (problem && problem->free_final_time) {
+    if (parsed.options.task != "optimal_control")
+      throw UsageError("a free finalTime is supported by task optimal_control only (this study's "
+                       "task is " + parsed.options.task + ")");
+    scale_time(flat, *problem);
+  }
   std::optional<symbolic::OdeModel> ode;
   if (parsed.errors.empty() && parsed.ok && problem) ode = lower_model(flat, diags);
   if (ode && reject_events_in_study(flat, *ode, diags)) ode.reset();
   diags.print(std::cerr);  // once: warnings, or the errors that stop here
   if (!parsed.errors.empty()) return 2;
   if (!ode) return 1;
+  std::vector<std::string> states;
+  for (const auto& x : ode->states) states.push_back(x.info.name);
+  drop_state_bounds(*problem, states);
+  add_measured_outputs(*ode, measured_names(parsed.options, cli.study_file));
   if (const auto params = sensitivity_parameters(flat, parsed.options); !params.empty())
     if (auto error = add_named_sensitivities(*ode, params); !error.empty()) throw UsageError(error);
   Study s{flat, cli, std::move(parsed.options), std::move(*problem), build_model(*ode, cli.jobs, "morun")};

@@ -89,7 +89,7 @@ runtime::MeasurementTable read_measurements(const std::string& path, const runti
                                 options.outputs.end();
         const auto k = info.output_index(header[c]);
         if (wanted && !k)
-          throw UsageError(fmt::format("{}:{}: error: column '{}' is not an output of the model",
+          throw UsageError(fmt::format("{}:{}: error: column '{}' is not a variable of the model",
                                        path, line_no, header[c]));
         column_output.push_back(wanted ? static_cast<int>(t.outputs.size()) : -1);
         if (wanted) t.outputs.push_back(*k);

@@ -15,9 +15,12 @@ std::optional<double> constant_value(const flat::Model& m, const ast::Expr& e) {
   case ast::ExprKind::Real:
   case ast::ExprKind::Integer:
   case ast::ExprKind::Boolean: return e.number;
-  case ast::ExprKind::Ref:
-    if (e.var >= 0) return m.variables[static_cast<std::size_t>(e.var)].value;
-    return std::nullopt;
+  case ast::ExprKind::Ref: {
+    if (e.var < 0) return std::nullopt;
+    const flat::Variable& v = m.variables[static_cast<std::size_t>(e.var)];
+    if (v.attr.free && constant_value(m, *v.attr.free).value_or(0.0) != 0.0) return std::nullopt;
+    return v.value;
+  }
   case ast::ExprKind::Unary: {
     auto x = constant_value(m, *e.args[0]);
     if (!x) return std::nullopt;
@@ -41,23 +44,43 @@ std::optional<double> constant_value(const flat::Model& m, const ast::Expr& e) {
 
 namespace {
 
+/// The time of a point value `v(T)` on the study's horizon: T itself, or with
+/// a free final time τ = 1 for `finalTime` and τ = 0 for startTime. Nullopt
+/// after reporting a time that is not constant (or, with a free final time,
+/// neither startTime nor finalTime).
+std::optional<double> point_time(const flat::Model& m, const ast::Expr& at, const ProblemOutputs& out,
+                                 frontend::DiagnosticEngine& diags) {
+  const auto& free = out.free_final_time;
+  if (free && at.kind == ast::ExprKind::Ref && at.var == free->var) return 1.0;
+  const auto t = constant_value(m, at);
+  if (!t) {
+    diags.report(DiagId::BadOptimization, at.range,
+                 free ? "the time of this point value is not constant (with a free finalTime, "
+                        "point values are at startTime or finalTime)"
+                      : "the time of this point value is not constant");
+    return std::nullopt;
+  }
+  if (!free) return t;
+  if (*t == free->start) return 0.0;
+  diags.report(DiagId::BadOptimization, at.range,
+               "with a free finalTime, point values may only be at startTime or finalTime");
+  return std::nullopt;
+}
+
 /// Replaces every `v(T)` (a Call with a resolved variable) in `e` by `v` and
-/// collects the times T. False after reporting a non-constant time.
+/// collects the times T (see point_time). False after reporting a bad time.
 bool strip_times(const flat::Model& m, ast::Expr& e, std::vector<double>& times,
-                 frontend::DiagnosticEngine& diags) {
+                 const ProblemOutputs& out, frontend::DiagnosticEngine& diags) {
   if (e.kind == ast::ExprKind::Call && e.var >= 0 && e.args.size() == 1) {
-    const auto t = constant_value(m, *e.args[0]);
-    if (!t) {
-      diags.report(DiagId::BadOptimization, e.range, "the time of this point value is not constant");
-      return false;
-    }
+    const auto t = point_time(m, *e.args[0], out, diags);
+    if (!t) return false;
     times.push_back(*t);
     e.kind = ast::ExprKind::Ref;
     e.args.clear();
     return true;
   }
   for (auto& a : e.args)
-    if (!strip_times(m, *a, times, diags)) return false;
+    if (!strip_times(m, *a, times, out, diags)) return false;
   return true;
 }
 
@@ -92,7 +115,8 @@ bool add_constraint(flat::Model& m, const ast::Equation& eq, std::size_t k, Prob
                     frontend::DiagnosticEngine& diags) {
   ast::ExprPtr lhs = eq.lhs->clone(), rhs = eq.rhs->clone();
   std::vector<double> times;
-  if (!strip_times(m, *lhs, times, diags) || !strip_times(m, *rhs, times, diags)) return false;
+  if (!strip_times(m, *lhs, times, out, diags) || !strip_times(m, *rhs, times, out, diags))
+    return false;
   ProblemConstraint c;
   c.range = eq.range;
   if (!common_time(times, c.time)) {
@@ -133,6 +157,12 @@ std::optional<ProblemOutputs> add_problem_outputs(flat::Model& m,
   ProblemOutputs out;
   if (opt.start_time) out.t0 = constant_value(m, *opt.start_time).value_or(0.0);
   if (opt.final_time) out.tf = constant_value(m, *opt.final_time).value_or(1.0);
+  if (opt.free_final_time >= 0) {  // the horizon becomes τ ∈ [0, 1]
+    const auto var = static_cast<std::size_t>(opt.free_final_time);
+    out.free_final_time = FreeFinalTime{opt.free_final_time, m.variables[var].name, out.t0};
+    out.t0 = 0.0;
+    out.tf = 1.0;
+  }
   if (out.tf <= out.t0) {
     diags.report(DiagId::BadOptimization, opt.range,
                  fmt::format("finalTime ({}) must be after startTime ({})", out.tf, out.t0));
@@ -141,7 +171,7 @@ std::optional<ProblemOutputs> add_problem_outputs(flat::Model& m,
   if (opt.objective) {
     ast::ExprPtr e = opt.objective->clone();
     std::vector<double> times;
-    if (!strip_times(m, *e, times, diags)) return std::nullopt;
+    if (!strip_times(m, *e, times, out, diags)) return std::nullopt;
     for (double t : times)
       if (t != out.tf) {
         diags.report(DiagId::BadOptimization, opt.objective->range,

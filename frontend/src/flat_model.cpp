@@ -69,7 +69,9 @@ public:
     out_ += (opt ? "optimization " : "class ") + quote_name(m_.name);
     if (opt) optimization_header();
     out_ += "\n";
-    for (std::int32_t v : declaration_order()) declaration(m_.variables[v]);
+    for (std::int32_t v : declaration_order())
+      if (!opt || v != m_.optimization->free_final_time) // declared by the header
+        declaration(m_.variables[v]);
     section("equation", m_.equations);
     section("initial equation", m_.initial_equations);
     if (opt) section("constraint", m_.optimization->constraints);
@@ -90,7 +92,16 @@ private:
     if (o.objective) parts.push_back("objective = " + ex(*o.objective));
     if (o.objective_integrand) parts.push_back("objectiveIntegrand = " + ex(*o.objective_integrand));
     if (o.start_time) parts.push_back("startTime = " + ex(*o.start_time));
-    if (o.final_time) parts.push_back("finalTime = " + ex(*o.final_time));
+    if (o.free_final_time >= 0) { // finalTime(free = true, min, max, initialGuess)
+      const Variable &tf = m_.variables[o.free_final_time];
+      std::string text = "finalTime(free = true";
+      if (tf.attr.min) text += ", min = " + ex(*tf.attr.min);
+      if (tf.attr.max) text += ", max = " + ex(*tf.attr.max);
+      if (tf.attr.initial_guess) text += ", initialGuess = " + ex(*tf.attr.initial_guess);
+      parts.push_back(text + ")" + (o.final_time ? " = " + ex(*o.final_time) : ""));
+    } else if (o.final_time) {
+      parts.push_back("finalTime = " + ex(*o.final_time));
+    }
     if (parts.empty()) return;
     out_ += "(";
     for (std::size_t i = 0; i < parts.size(); ++i) out_ += (i ? ", " : "") + parts[i];

@@ -180,14 +180,19 @@ void Flattener::flatten_optimization() {
   flat::Optimization opt;
   opt.range = def.range;
   Scope s{top_.get(), top_->cls, nullptr, true};
+  declare_free_final_time(def);
+  opt.free_final_time = free_final_time_;
   for (const ast::ElementMod &em : def.class_mod.args) {
     std::string n = em.path.empty() ? "" : em.path[0];
     ExprPtr *slot = n == "objective" ? &opt.objective : n == "objectiveIntegrand" ? &opt.objective_integrand
                   : n == "startTime" ? &opt.start_time : n == "finalTime" ? &opt.final_time : nullptr;
+    const bool time_attributes = (n == "startTime" || n == "finalTime") && !em.mod.args.empty();
+    if (time_attributes && !em.mod.binding && em.path.size() == 1)
+      continue; // `finalTime(free = true, ...)`: declare_free_final_time handled it
     if (!slot || em.path.size() != 1 || !em.mod.binding) {
       diags_.report(DiagId::BadOptimization, em.range,
                     "'" + n + "' is not an attribute of an optimization class (expected objective, "
-                              "objectiveIntegrand, startTime or finalTime with a value)");
+                              "objectiveIntegrand, startTime or finalTime with a value or attributes)");
       continue;
     }
     try {

@@ -322,13 +322,21 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
           return Tensor::scalar(literal(*v, e.range, true));
       if (n == "time" && !(s.inst && s.inst->member_index.count(n)))
         return Tensor::scalar(ast::make_ref("time", e.range));
-      if (s.in_optimization && (n == "startTime" || n == "finalTime"))
+      if (s.in_optimization && (n == "startTime" || n == "finalTime")) {
+        if (n == "finalTime" && free_final_time_ >= 0) { // the free parameter
+          auto ref = ast::make_ref(n, e.range);
+          ref->var = free_final_time_;
+          return Tensor::scalar(std::move(ref));
+        }
         for (const ast::ElementMod &em : top_->cls->def->class_mod.args)
           if (em.path.size() == 1 && em.path[0] == n && em.mod.binding) {
             Scope top_scope{top_.get(), top_->cls, nullptr};
             ExprPtr v = scalar_expr(*em.mod.binding, top_scope);
             return Tensor::scalar(literal(eval(*v, e.range), e.range, v->kind == ExprKind::Integer));
           }
+        if (!(s.inst && s.inst->member_index.count(n))) // Optimica's defaults
+          return Tensor::scalar(literal(n == "startTime" ? 0.0 : 1.0, e.range));
+      }
     }
     std::vector<int> dims;
     std::vector<Instance *> insts;

@@ -230,6 +230,13 @@ public:
   void connect_pair(Instance *a, bool a_outside, Instance *b, bool b_outside, SourceRange where);
   void flatten_bindings();
   void flatten_optimization();
+  /// Optimica `finalTime(free = true, min, max, initialGuess)` (with or without
+  /// a value): declares the parameter `finalTime` that holds it (see
+  /// flatten_optimica_time.cpp) and sets free_final_time_. Reports a free
+  /// startTime, unknown attributes and a model variable already named finalTime.
+  void declare_free_final_time(const ast::ClassDef &def);
+  /// The variable of a free final time, or -1 (finalTime fixed).
+  std::int32_t free_final_time_ = -1;
   void check_balance();
   /// Inputs no equation defines become inputs of the model (flatten_free_inputs.cpp).
   void mark_free_inputs();

@@ -54,6 +54,10 @@ struct StudyOption {
 /// and the constraint section (EquationKind::Constraint equations).
 struct Optimization {
   ast::ExprPtr objective, objective_integrand, start_time, final_time;
+  /// `finalTime(free = true, ...)`: the parameter variable `finalTime` (free,
+  /// with the min/max/initialGuess written) that `finalTime` refers to in the
+  /// objective and constraints; -1 when the final time is fixed.
+  std::int32_t free_final_time = -1;
   std::vector<ast::Equation> constraints;
   SourceRange range;
   /// `annotation(__mocompile(name = value, ...))` of the optimization class:

@@ -1,0 +1,148 @@
+#!/usr/bin/env python3
+"""JModelica's Optimica examples run with morun (issue 12).
+
+The examples in JModelica's Python/src/pyjmi/examples that solve an
+`optimization` class and assert the optimum, run on the example's own files
+with its options translated to `--option`; each is checked against the value
+the example asserts. JModelica's files are read from a checkout given as an
+argument (they are not part of mocompile):
+
+    bench/jmodelica_examples.py JMODELICA_DIR [--morun build/tools/morun] [--msl MSL_DIR]
+                                [--only NAME...]
+
+Prints one line per example: `reached`, `missed` (solved, other optimum),
+`failed` (morun's first error) or `not run` (what the example needs that has
+no morun translation), then the count that reach JModelica's optimum.
+"""
+import argparse
+import csv
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+FILES = "Python/src/pyjmi/examples/files"
+
+# name, study file, libraries, class, --option list, checks, or a reason not to run;
+# msl: the example uses the Modelica Standard Library (given with --msl).
+# A check is (what, expected, rtol, atol): what is "objective", "final_time",
+# "final:<column of trajectories.csv>" or "information" (design: the
+# criterion JModelica minimises is -trace F).
+EXAMPLES = [
+    dict(name="vdp_casadi", file="VDP.mop", cls="VDP_pack.VDP_Opt2", options=["n_e=30"],
+         checks=[("final:x1", 0.0, 0, 1e-3), ("final:x2", 0.0, 0, 1e-3)]),
+    dict(name="vdp_minimum_time_casadi", msl=True, file="JMExamples_opt.mop", libs=["JMExamples.mo"],
+         cls="JMExamples_opt.VDP_Opt_Min_Time", options=[],
+         checks=[("final_time", 2.2811587, 0, 1e-3)]),
+    dict(name="cstr_casadi", msl=True, file="CSTR.mop", cls="CSTR.CSTR_Opt2", options=["n_e=19", "tol=1e-10"],
+         checks=[("objective", 1.86162353098e3, 0, 1.0)]),
+    dict(name="ccpp", msl=True, file="CombinedCycleStartup.mop", libs=["CombinedCycle.mo"],
+         cls="CombinedCycleStartup.Startup6", options=["n_e=50"],
+         checks=[("objective", 17492.465548193624, 1e-5, 0)]),
+    dict(name="ccpp_elimination", msl=True, file="CombinedCycleStartup.mop", libs=["CombinedCycle.mo"],
+         cls="CombinedCycleStartup.Startup6", options=["n_e=50"],
+         checks=[("objective", 17492.465548193624, 1e-5, 0)]),
+    dict(name="ccpp_sym_elim", msl=True, file="CombinedCycleStartup.mop", libs=["CombinedCycle.mo"],
+         cls="CombinedCycleStartup.Startup6", options=["n_e=50"],
+         checks=[("objective", 17492.465548193624, 1e-5, 0)]),
+    dict(name="distillation4_opt", msl=True, file="JMExamples_opt.mop", libs=["JMExamples.mo"],
+         cls="JMExamples_opt.Distillation4_Opt", options=["n_e=15", 'ipopt_options={"mu_init=1e-3"}'],
+         checks=[("objective", 4.611038777467e-02, 1e-2, 0)]),
+    dict(name="double_pendulum", msl=True, file="DoublePendulum.mop", libs=["DoublePendulum.mo"], cls="DoublePendulum.Opt",
+         options=["n_e=100"], checks=[("objective", 9.632883808252522, 5e-3, 0)]),
+    dict(name="elimination_example", file="JMExamples_opt.mop", cls="JMExamples_opt.EliminationExample",
+         options=[], checks=[("objective", 1.0818134, 1e-4, 0)]),
+    dict(name="fed_batch_oed", file="fed_batch_reactor.mop", cls="FedBatchReactor_OED",
+         options=["task=design", "criterion=T", "parameters={theta1,theta2,theta3,theta4}",
+                  "outputs={y1,y2}", "sigma={0.31622776601683794}",
+                  "measurement_times={2,4,6,8,10,12,14,16,18,20}", "n_e=30",
+                  "blocking_factors={3,3,3,3,3,3,3,3,3,3}"],
+         checks=[("objective", -1.311920e+07, 1e-3, 0)],
+         note="setup_oed's sigma = diag(10, 10) weighs the Fisher matrix (F = sum S' sigma S, "
+              "100 times F with sigma as a covariance), so sigma = 1/sqrt(10) in morun's terms"),
+    dict(name="fourbar1", msl=True, file="Fourbar1.mop", libs=["Fourbar1.mo"], cls="Fourbar1.Opt", options=["n_e=20"],
+         checks=[("objective", 1.0455646e-03, 5e-3, 0)]),
+    dict(name="vehicle_turn", msl=True, file="vehicle_turn.mop", cls="Turn", options=["n_e=60", "tol=1e-9"],
+         checks=[("final_time", 4.0118, 5e-3, 0)],
+         note="JModelica blocks delta_u by 2 and Twf_u, Twr_u by 4 elements; "
+              "morun's blocking_factors apply to every control, so none are given"),
+    dict(name="qt_par_est_casadi", skip="its measurements are read from qt_par_est_data.mat in Python "
+         "(external_data); morun's estimation reads CSV data named in the study"),
+    dict(name="cstr_mpc_casadi", skip="model-predictive control: a loop of shifted solves driven by "
+         "Python, not one study"),
+    dict(name="greybox_identification", skip="grey-box identification driven by Python "
+         "(pyjmi.optimization.greybox), not one study"),
+]
+
+
+def value(what, out):
+    """The quantity `what` of the study results in `out`."""
+    s = json.load(open(os.path.join(out, "summary.json")))
+    if what == "objective":
+        return s["objective"]
+    if what == "final_time":
+        return s.get("final_time", s["horizon"][1])
+    if what.startswith("final:"):
+        rows = list(csv.reader(open(os.path.join(out, "trajectories.csv"))))
+        return float(rows[-1][rows[0].index(what[6:])])
+    raise ValueError(what)
+
+
+def first_error(text):
+    for line in text.splitlines():
+        if "error" in line:
+            return line.strip()
+    lines = [l for l in text.splitlines() if l.strip()]
+    return lines[-1].strip() if lines else "no output"
+
+
+def run(example, files, morun, scratch, msl):
+    if "skip" in example:
+        return "not run", example["skip"]
+    out = os.path.join(scratch, example["name"])
+    cmd = [morun, os.path.join(files, example["file"]), "--class", example["cls"], "-o", out]
+    for lib in example.get("libs", []):
+        cmd += ["-L", os.path.join(files, lib)]
+    if example.get("msl") and msl:
+        cmd += ["-L", os.path.join(msl, "Modelica")]
+    for opt in ["plot=false"] + example["options"]:
+        cmd += ["--option", opt]
+    p = subprocess.run(cmd, capture_output=True, text=True)
+    if not os.path.exists(os.path.join(out, "summary.json")):
+        return "failed", first_error(p.stderr)
+    got = []
+    ok = p.returncode == 0
+    for what, expected, rtol, atol in example["checks"]:
+        v = value(what, out)
+        got.append(f"{what} = {v:.8g} (JModelica {expected:.8g})")
+        ok = ok and abs(v - expected) <= atol + rtol * abs(expected)
+    status = json.load(open(os.path.join(out, "summary.json"))).get("status", "?")
+    return ("reached" if ok else "missed"), f"{status}; " + ", ".join(got)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("jmodelica", help="a checkout of github.com/JModelica/JModelica")
+    ap.add_argument("--morun", default=os.path.join(os.path.dirname(__file__), "..", "build", "tools", "morun"))
+    ap.add_argument("--only", nargs="*", help="run only these examples")
+    ap.add_argument("--msl", help="the Modelica Standard Library 3.2.2 (a directory holding Modelica/), "
+                    "for the examples that use it (marked msl)")
+    args = ap.parse_args()
+    files = os.path.join(args.jmodelica, FILES)
+    if not os.path.isdir(files):
+        sys.exit(f"{files}: not a directory (give the JModelica checkout)")
+    reached = 0
+    with tempfile.TemporaryDirectory(prefix="jmodelica-examples-") as scratch:
+        for ex in EXAMPLES:
+            if args.only and ex["name"] not in args.only:
+                continue
+            status, detail = run(ex, files, os.path.abspath(args.morun), scratch, args.msl)
+            reached += status == "reached"
+            note = f" [{ex['note']}]" if "note" in ex else ""
+            print(f"{ex['name']:26s} {status:8s} {detail}{note}", flush=True)
+    print(f"reached JModelica's optimum: {reached} of {len(EXAMPLES)}")
+
+
+if __name__ == "__main__":
+    main()
