@@ -5,6 +5,7 @@
 // Prints NLP size, iterations, timings, the information in collocation and on
 // replay, and the replay's bound violation (docs/benchmarks.md).
 // Usage: optim_cart_pendulum [CASE ...] [--lbfgs] [--progress] [--log DIR]
+//        [--no-init-traj] [--no-nominal-traj] [--ipopt NAME VALUE ...]
 //        CASE: T3 T1 D5 E5 (default: all four)
 #include <cstdio>
 #include <filesystem>
@@ -90,15 +91,20 @@ int main(int argc, char** argv) {
   };
   std::vector<std::string> chosen;
   std::string log_dir;
-  bool lbfgs = false, progress = false;
+  bool lbfgs = false, progress = false, init_traj = true, nominal_traj = true;
+  std::map<std::string, std::string> extra;  // --ipopt NAME VALUE
   for (int k = 1; k < argc; ++k) {
     std::string arg = argv[k];
     if (arg == "--lbfgs") lbfgs = true;
     else if (arg == "--progress") progress = true;
     else if (arg == "--log" && k + 1 < argc) log_dir = argv[++k];
+    else if (arg == "--no-init-traj") init_traj = false;
+    else if (arg == "--no-nominal-traj") nominal_traj = false;
+    else if (arg == "--ipopt" && k + 2 < argc) extra[argv[k + 1]] = argv[k + 2], k += 2;
     else if (cases.count(arg)) chosen.push_back(arg);
     else {
-      std::cerr << "usage: optim_cart_pendulum [T3|T1|D5|E5 ...] [--lbfgs] [--progress] [--log DIR]\n";
+      std::cerr << "usage: optim_cart_pendulum [T3|T1|D5|E5 ...] [--lbfgs] [--progress] [--log DIR]"
+                   " [--no-init-traj] [--no-nominal-traj] [--ipopt NAME VALUE ...]\n";
       return 2;
     }
   }
@@ -112,6 +118,9 @@ int main(int argc, char** argv) {
     const Case& c = cases.at(name);
     const Model& model = c.parameters.size() == 1 ? *m2 : *all;
     InputDesignProblem problem = design_problem(model, c);
+    problem.ocp.collocation.init_traj = init_traj;
+    problem.ocp.collocation.nominal_traj = nominal_traj && init_traj;
+    problem.ocp.solver.ipopt_options = extra;
     if (lbfgs) problem.ocp.solver.hessian = HessianMode::limited_memory;
     if (lbfgs) problem.ocp.solver.acceptable_tolerance = 1e-2;  // L-BFGS crawls near the optimum
     if (lbfgs) problem.ocp.solver.acceptable_objective_change = 1e-6;

@@ -49,6 +49,7 @@ std::function<Eigen::MatrixXd(std::span<const double>)> add_lifted_criterion(
   const detail::LiftedFisher& f = *lifted;
   nlp.add_constraints(std::move(lifted));
   if (c == DesignCriterion::E) {
+    nlp.set_objective_scaling(1.0 / f.magnitude());  // t is of the order of F's entries
     auto epigraph = std::make_unique<detail::FisherVariableEpigraph>(nlp, f);
     nlp.add_objective(std::make_unique<detail::MaximiseVariable>(epigraph->epigraph_variable()));
     nlp.add_constraints(std::move(epigraph));

@@ -119,7 +119,11 @@ IpoptOutcome run_once(Ipopt::IpoptApplication& app, CollocationNlp& nlp, bool ex
     out.status = OptimizationStatus::stalled;
     out.message += ", at a feasible point: stalled";
   }
-  if (!tnlp->evaluation_error().empty()) out.message += "; " + tnlp->evaluation_error();
+  const bool converged = out.status == OptimizationStatus::success ||
+                         out.status == OptimizationStatus::acceptable;
+  // A trial point rejected on the way (e.g. a step to a non-positive-definite F)
+  // is part of the normal search: name it only when the solve failed.
+  if (!converged && !tnlp->evaluation_error().empty()) out.message += "; " + tnlp->evaluation_error();
   out.solution = tnlp->last_iterate();
   out.objective = tnlp->last_objective();
   out.iterations = IsValid(app.Statistics()) ? int(app.Statistics()->IterationCount()) : 0;
