@@ -1,89 +1,142 @@
-// Benchmark: the cart-pendulum T-optimal input design for m2 (docs/cart-pendulum.md,
-// Step 3) with n_e = 100 and n_cp = 1 and 3. Prints NLP size, iterations, timings,
-// the Fisher information in collocation and on replay, and the replay's bound violation.
-// Usage: optim_cart_pendulum [n_cp ...] [--log DIR] [--ipopt NAME VALUE ...]
-//        [--criterion A|T|D|E] [--ne N] [--d2] [--progress] [--sparse]
-#include "fixtures.hpp"
-#include "sparse_sensitivities.hpp"
-#include "mo/runtime/design.hpp"
-
+// Benchmark: cart-pendulum input designs (docs/cart-pendulum.md, Step 3) on the
+// model generated from modelica/CartPendulum/CartPendulumODE.mo, one start each:
+//   T design for m2, n_e = 100, Radau n_cp = 3 and 1, 100 samples;
+//   D and E designs for m1, d1, m2, d2, l with n_e = 50 (50 samples).
+// Prints NLP size, iterations, timings, the information in collocation and on
+// replay, and the replay's bound violation (docs/benchmarks.md).
+// Usage: optim_cart_pendulum [CASE ...] [--lbfgs] [--progress] [--log DIR]
+//        [--no-init-traj] [--no-nominal-traj] [--ipopt NAME VALUE ...]
+//        CASE: T3 T1 D5 E5 (default: all four)
 #include <cstdio>
-#include <cstdlib>
+#include <filesystem>
 #include <iostream>
 #include <map>
 #include <string>
 #include <vector>
 
+#include "mo/codegen/generate.hpp"
+#include "mo/codegen/shared_object.hpp"
+#include "mo/runtime/design.hpp"
+#include "pipeline.hpp"
+
+using namespace mo;
 using namespace mo::runtime;
 
 namespace {
 
-InputDesignProblem design_problem(int n_cp) {
+std::unique_ptr<Model> build(const std::vector<std::string>& sensitivities, const std::string& name) {
+  frontend::SourceManager sources;
+  frontend::DiagnosticEngine diags(sources);
+  tools::ModelSource src{std::string(MO_SOURCE_DIR) + "/modelica/CartPendulum/CartPendulumODE.mo",
+                         "CartPendulumODE", {}, true};
+  auto flat = tools::load_flat_model(src, sources, diags);
+  std::optional<symbolic::OdeModel> ode;
+  if (flat) ode = tools::lower_model(*flat, diags);
+  if (!ode) {
+    diags.print(std::cerr);
+    std::exit(1);
+  }
+  if (auto error = tools::add_named_sensitivities(*ode, sensitivities); !error.empty()) {
+    std::cerr << error << "\n";
+    std::exit(1);
+  }
+  codegen::CodegenOptions co;
+  co.name = name;
+  const auto generated = codegen::generate_cpp(*ode, co);
+  codegen::CompilerOptions o = codegen::runtime_compiler_options();
+  o.cache_dir = (std::filesystem::temp_directory_path() / "mocompile-bench-cache").string();
+  o.jobs = 2;
+  const auto so = codegen::compile_shared_object(generated, o);
+  return codegen::LoadedModel(so.library, generated.factory_symbol).create();
+}
+
+struct Case {
+  std::string label;
+  DesignCriterion criterion;
+  std::vector<std::string> parameters;
+  int n_e, n_cp;
+};
+
+// The paper's problem (12): rest to x = 0.5 m in 5 s within the state bounds.
+InputDesignProblem design_problem(const Model& m, const Case& c) {
+  const ModelInfo& info = m.info();
+  auto state = [&](const char* n) { return *info.state_index(n); };
   InputDesignProblem d;
   OptimalControlProblem& p = d.ocp;
   p.t0 = 0.0, p.tf = 5.0;
   p.controls = {FreeControl{0, {-5.0, 5.0}, sine_input(2.0, 1.0, 0.0, 1.5), {}}};
-  p.state_bounds = {{0, {0.0, 0.5}}, {1, {-0.5, 0.5}}, {2, {0.0, 0.5}}, {3, {-0.5, 0.5}}};
-  p.final_state = {{0, {0.5, 0.5}}, {1, {0.0, 0.0}}, {2, {0.0, 0.0}}, {3, {0.0, 0.0}}};
-  p.collocation.n_e = 100, p.collocation.n_cp = n_cp;
+  p.state_bounds = {{state("x"), {0.0, 0.5}}, {state("phi"), {-0.5, 0.5}},
+                    {state("v"), {0.0, 0.5}}, {state("w"), {-0.5, 0.5}}};
+  p.final_state = {{state("x"), {0.5, 0.5}}, {state("phi"), {0.0, 0.0}},
+                   {state("v"), {0.0, 0.0}}, {state("w"), {0.0, 0.0}}};
+  p.collocation.n_e = c.n_e, p.collocation.n_cp = c.n_cp;
   p.solver.max_iterations = 1000;
   p.solver.tolerance = 1e-6;
-  p.solver.acceptable_tolerance = 1e-2;  // L-BFGS crawls near the optimum
-  p.solver.acceptable_objective_change = 1e-6;
-  d.parameters = {2};  // m2
-  d.measurements = {{0, 1}, {0.01, 0.01}, MeasurementDesign::uniform_times(0.0, 5.0, 100)};
-  d.criterion = DesignCriterion::T;
+  for (const auto& name : c.parameters) d.parameters.push_back(*info.parameter_index(name));
+  d.measurements = {{*info.output_index("y_x"), *info.output_index("y_phi")},
+                    {0.01, 0.01},
+                    MeasurementDesign::uniform_times(0.0, 5.0, std::size_t(c.n_e))};
+  d.criterion = c.criterion;
   return d;
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<int> points;
+  const std::map<std::string, Case> cases = {
+      {"T3", {"T3", DesignCriterion::T, {"m2"}, 100, 3}},
+      {"T1", {"T1", DesignCriterion::T, {"m2"}, 100, 1}},
+      {"D5", {"D5", DesignCriterion::D, {"m1", "d1", "m2", "d2", "l"}, 50, 3}},
+      {"E5", {"E5", DesignCriterion::E, {"m1", "d1", "m2", "d2", "l"}, 50, 3}},
+  };
+  std::vector<std::string> chosen;
   std::string log_dir;
+  bool lbfgs = false, progress = false, init_traj = true, nominal_traj = true;
   std::map<std::string, std::string> extra;  // --ipopt NAME VALUE
-  char criterion = 'T';                       // --criterion A|T|D|E
-  int n_e = 100;                              // --ne N (also the number of samples)
-  bool with_d2 = false, progress = false;     // --d2: design for (m2, d2); --progress
-  bool sparse = false;  // --sparse: the true ∂f/∂x pattern instead of the fixture's dense one
   for (int k = 1; k < argc; ++k) {
     std::string arg = argv[k];
-    if (arg == "--log" && k + 1 < argc) log_dir = argv[++k];
-    else if (arg == "--ipopt" && k + 2 < argc) extra[argv[k + 1]] = argv[k + 2], k += 2;
-    else if (arg == "--criterion" && k + 1 < argc) criterion = argv[++k][0];
-    else if (arg == "--ne" && k + 1 < argc) n_e = std::atoi(argv[++k]);
-    else if (arg == "--d2") with_d2 = true;
+    if (arg == "--lbfgs") lbfgs = true;
     else if (arg == "--progress") progress = true;
-    else if (arg == "--sparse") sparse = true;
-    else points.push_back(std::atoi(arg.c_str()));
+    else if (arg == "--log" && k + 1 < argc) log_dir = argv[++k];
+    else if (arg == "--no-init-traj") init_traj = false;
+    else if (arg == "--no-nominal-traj") nominal_traj = false;
+    else if (arg == "--ipopt" && k + 2 < argc) extra[argv[k + 1]] = argv[k + 2], k += 2;
+    else if (cases.count(arg)) chosen.push_back(arg);
+    else {
+      std::cerr << "usage: optim_cart_pendulum [T3|T1|D5|E5 ...] [--lbfgs] [--progress] [--log DIR]"
+                   " [--no-init-traj] [--no-nominal-traj] [--ipopt NAME VALUE ...]\n";
+      return 2;
+    }
   }
-  if (points.empty()) points = {1, 3};
-  std::printf("%-5s %7s %7s %8s %6s %9s %9s %9s %10s %10s %9s\n", "n_cp", "n", "m", "nnz_jac",
-              "iter", "build_s", "solve_s", "eval_s", "info_coll", "info_resim", "violation");
-  for (int n_cp : points) {
-    fixtures::WithSensitivities<fixtures::CartPendulum> dense_plant;
-    bench::SparseSensitivities<fixtures::CartPendulum> sparse_plant;
-    const Model& plant = sparse ? static_cast<const Model&>(sparse_plant) : dense_plant;
-    InputDesignProblem problem = design_problem(n_cp);
+  if (chosen.empty()) chosen = {"T3", "T1", "D5", "E5"};
+  std::unique_ptr<Model> m2 = build({"m2"}, "bench_cart_m2");
+  std::unique_ptr<Model> all = build({"m1", "d1", "m2", "d2", "l"}, "bench_cart_all");
+  std::printf("%-4s %4s %4s %7s %7s %8s %8s %6s %9s %9s %9s %12s %12s %9s\n", "case", "n_e",
+              "n_cp", "n", "m", "nnz_jac", "nnz_hess", "iter", "build_s", "solve_s", "eval_s",
+              "info_coll", "info_resim", "violation");
+  for (const std::string& name : chosen) {
+    const Case& c = cases.at(name);
+    const Model& model = c.parameters.size() == 1 ? *m2 : *all;
+    InputDesignProblem problem = design_problem(model, c);
+    problem.ocp.collocation.init_traj = init_traj;
+    problem.ocp.collocation.nominal_traj = nominal_traj && init_traj;
     problem.ocp.solver.ipopt_options = extra;
-    problem.ocp.collocation.n_e = n_e;
-    problem.measurements.times = MeasurementDesign::uniform_times(0.0, 5.0, std::size_t(n_e));
-    if (with_d2) problem.parameters = {2, 3};
+    if (lbfgs) problem.ocp.solver.hessian = HessianMode::limited_memory;
+    if (lbfgs) problem.ocp.solver.acceptable_tolerance = 1e-2;  // L-BFGS crawls near the optimum
+    if (lbfgs) problem.ocp.solver.acceptable_objective_change = 1e-6;
     if (progress) problem.ocp.solver.progress = print_progress(std::cout);
-    problem.criterion = criterion == 'A'   ? DesignCriterion::A
-                        : criterion == 'D' ? DesignCriterion::D
-                        : criterion == 'E' ? DesignCriterion::E
-                                           : DesignCriterion::T;
-    if (!log_dir.empty()) problem.ocp.solver.log_file = log_dir + "/ipopt_ncp" + std::to_string(n_cp) + ".log";
-    InputDesignResult r = design_input(plant, problem);
+    if (!log_dir.empty()) problem.ocp.solver.log_file = log_dir + "/ipopt_" + name + ".log";
+    InputDesignResult r = design_input(model, problem);
     const OptimizationResult& o = r.optimization;
-    std::printf("%-5d %7d %7d %8d %6d %9.2f %9.2f %9.2f %10.2f %10.2f %9.4f  %s\n", n_cp,
-                o.size.variables, o.size.constraints, o.size.jacobian_nonzeros, o.iterations,
+    std::printf("%-4s %4d %4d %7d %7d %8d %8d %6d %9.2f %9.2f %9.2f %12.6g %12.6g %9.2g  %s\n",
+                name.c_str(), c.n_e, c.n_cp, o.size.variables, o.size.constraints,
+                o.size.jacobian_nonzeros, o.size.hessian_nonzeros, o.iterations,
                 o.timings.nlp_build, o.timings.solve, o.timings.function_evaluations,
-                r.information_collocation, r.information_resimulated,
-                o.check.max_bound_violation, std::string(to_string(o.status)).c_str());
+                r.information_collocation, r.information_resimulated, o.check.max_bound_violation,
+                std::string(to_string(o.status)).c_str());
     for (const std::string& retry : o.retries) std::printf("      retry: %s\n", retry.c_str());
     if (!o.check.message.empty()) std::printf("      replay: %s\n", o.check.message.c_str());
+    std::fflush(stdout);
   }
   return 0;
 }

@@ -93,6 +93,8 @@ runtime::CollocationOptions collocation_options(const StudyOptions& o) {
   c.n_cp = o.n_cp;
   c.scheme = o.scheme == "gauss" ? runtime::CollocationScheme::gauss : runtime::CollocationScheme::radau;
   c.element_lengths = o.element_lengths;
+  c.init_traj = o.init_traj;
+  c.nominal_traj = o.nominal_traj && o.init_traj;
   return c;
 }
 

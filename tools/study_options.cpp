@@ -170,6 +170,8 @@ const std::map<std::string, Setter>& setters() {
       {"scheme", choice_of(&S::scheme, {"radau", "gauss"})},
       {"element_lengths", numbers_of(&S::element_lengths)},
       {"blocking_factors", numbers_of(&S::blocking_factors)},
+      {"init_traj", flag_of(&S::init_traj)},
+      {"nominal_traj", flag_of(&S::nominal_traj)},
       {"hessian", choice_of(&S::hessian, {"automatic", "exact", "limited_memory"})},
       {"tol", number_of(&S::tol)},
       {"max_iter", integer_of(&S::max_iter, 0)},

@@ -34,6 +34,8 @@ struct StudyOptions {
   std::vector<double> element_lengths;   ///< relative lengths, n_e of them; empty: uniform
   std::vector<int> blocking_factors;     ///< elements per control value; empty: one per element
   std::string hessian = "automatic";     ///< automatic | exact | limited_memory
+  bool init_traj = true;                 ///< states start from a simulation of the initial inputs
+  bool nominal_traj = true;              ///< scale states by that simulation's magnitudes
   double tol = 1e-8;                     ///< Ipopt tol
   int max_iter = 1000;                   ///< Ipopt max_iter
   double max_cpu_time = 1e6;             ///< Ipopt max_cpu_time, seconds

@@ -5,7 +5,7 @@ namespace mo::runtime::detail {
 CollocationEquations::CollocationEquations(const CollocationNlp& nlp, int experiment)
     : e_(experiment), nx_(int(nlp.info().states.size())), k_(nlp.num_points()),
       n_e_(nlp.num_elements()) {
-  for (const StateVariable& s : nlp.info().states) nominal_.push_back(s.nominal);
+  nominal_ = nlp.state_nominal(experiment);
 }
 
 int CollocationEquations::rows() const { return nx_ + n_e_ * (k_ + 1) * nx_; }

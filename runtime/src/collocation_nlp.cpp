@@ -57,7 +57,7 @@ CollocationNlp::CollocationNlp(const Model& model, NlpSetup setup,
                                            : NodeFamily::gauss,
                                        setup_.collocation.n_cp);
   for (auto& ex : experiments) {
-    experiments_.push_back(Experiment{std::move(ex), {}, {}, {}, {}, 0});
+    experiments_.push_back(Experiment{std::move(ex), {}, {}, {}, {}, {}, 0});
     models_.push_back(model.clone());
   }
   check_setup();
@@ -68,8 +68,8 @@ CollocationNlp::CollocationNlp(const Model& model, NlpSetup setup,
   }
   for (auto& ex : experiments_) layout_experiment(ex);
   for (int e = 0; e < num_experiments(); ++e) {
+    initial_guess_from_simulation(e);  // before the rows: it may set their scaling
     add_constraints(std::make_unique<CollocationEquations>(*this, e));
-    initial_guess_from_simulation(e);
   }
 }
 
@@ -129,6 +129,7 @@ void CollocationNlp::layout_experiment(Experiment& ex) {
     ex.element_length.push_back((i + 1 < n_e ? ex.element_start[std::size_t(i) + 1] : ex.setup.tf) -
                                 ex.element_start[std::size_t(i)]);
   ex.state_offset = num_variables();
+  for (const StateVariable& sv : info.states) ex.nominal.push_back(sv.nominal);
   auto add_node = [&](bool final_node) {
     for (std::size_t s = 0; s < info.states.size(); ++s) {
       const StateVariable& sv = info.states[s];

@@ -132,6 +132,10 @@ public:
   [[nodiscard]] int parameter_var(std::size_t j) const { return parameter_var_[j]; }
   /// Appends `count` variables; returns the first index.
   int add_variables(int count, Bounds bounds, double initial, double scale = 1.0);
+  /// Scaling magnitude of each state of experiment e (nominal_traj or the attribute).
+  [[nodiscard]] const std::vector<double>& state_nominal(int e) const {
+    return experiments_[static_cast<std::size_t>(e)].nominal;
+  }
   /// Start time and length of element i of experiment e.
   [[nodiscard]] double element_start(int e, int i) const;
   [[nodiscard]] double element_length(int e, int i) const;
@@ -199,11 +203,13 @@ private:
     std::vector<double> element_start, element_length;
     std::vector<std::vector<int>> control_block;  // per control: block of each element
     std::vector<int> control_offset;              // per control: first variable
+    std::vector<double> nominal;                  // per state: scaling magnitude
     int state_offset = 0;
   };
   void check_setup();
   void layout_experiment(Experiment& ex);
   void initial_guess_from_simulation(int e);
+  void scale_by_trajectory(int e, const ResultTable& trajectory);
 
   NlpSetup setup_;
   CollocationPolynomials poly_;

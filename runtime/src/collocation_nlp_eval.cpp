@@ -181,6 +181,15 @@ void CollocationNlp::initial_guess_from_simulation(int e) {
   times.push_back(s.tf);
   std::vector<double> p(info.parameters.size());
   parameters(initial_, p);
+  std::vector<double> x0(info.states.size());
+  if (!setup_.collocation.init_traj) {  // states at their start values x0(p)
+    model(e).initial_state(p, x0);
+    for (int i = 0; i <= num_elements(); ++i)
+      for (int k = 0; k < (i < num_elements() ? num_points() + 1 : 1); ++k)
+        for (std::size_t st = 0; st < x0.size(); ++st)
+          initial_[std::size_t(state_var(e, i, k, int(st)))] = x0[st];
+    return;
+  }
   SimulationOptions options;
   options.relative_tolerance = 1e-8;
   SimulationResult sim = simulate(model(e), inputs, p, OutputGrid::at(times), options);
@@ -191,8 +200,26 @@ void CollocationNlp::initial_guess_from_simulation(int e) {
     for (std::size_t st = 0; st < nx; ++st)
       initial_[std::size_t(state_var(e, i, k, int(st)))] = values[st];
   }
-  std::vector<double> x0(nx);
   model(e).initial_state(p, x0);  // reset the discrete variables
+  if (setup_.collocation.nominal_traj) scale_by_trajectory(e, sim.trajectory);
+}
+
+void CollocationNlp::scale_by_trajectory(int e, const ResultTable& trajectory) {
+  Experiment& ex = experiments_[std::size_t(e)];
+  const std::size_t nx = info().states.size();
+  for (std::size_t st = 0; st < nx; ++st) {
+    double largest = 0.0;
+    for (std::size_t row = 0; row < trajectory.rows(); ++row)
+      largest = std::max(largest, std::abs(trajectory.row(row)[st]));
+    const double attribute = info().states[st].nominal;
+    // A state the start hardly moves (the input guess may excite nothing) keeps
+    // its attribute: its magnitude at the optimum is unknown.
+    ex.nominal[st] = std::isfinite(largest) && largest >= 1e-2 * attribute ? largest : attribute;
+  }
+  for (int i = 0; i <= num_elements(); ++i)
+    for (int k = 0; k < (i < num_elements() ? num_points() + 1 : 1); ++k)
+      for (std::size_t st = 0; st < nx; ++st)
+        scale_[std::size_t(state_var(e, i, k, int(st)))] = 1.0 / ex.nominal[st];
 }
 
 }  // namespace mo::runtime::detail

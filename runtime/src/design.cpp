@@ -2,11 +2,13 @@
 // starts, and the replay of the designed input on CVODES.
 #include "mo/runtime/design.hpp"
 
+#include "design_fisher_nlp.hpp"
 #include "fisher_terms.hpp"
 #include "mo/runtime/simulate.hpp"
 #include "optimize_internal.hpp"
 
 #include <chrono>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -16,12 +18,10 @@ namespace {
 
 constexpr double nan = std::numeric_limits<double>::quiet_NaN();
 
-InputDesignResult design_once(const Model& model, const InputDesignProblem& problem) {
-  auto start = std::chrono::steady_clock::now();
-  InputDesignResult out;
-  const OptimalControlProblem& ocp = problem.ocp;
-  detail::CollocationNlp nlp(model, detail::nlp_setup(ocp), {detail::experiment_setup(ocp)});
-  detail::add_problem_terms(nlp, ocp, 0);
+// The objective and constraints of the criterion on the Fisher matrix of the
+// trajectory (limited-memory Hessian); returns F of a solution.
+std::function<Eigen::MatrixXd(std::span<const double>)> add_trajectory_criterion(
+    detail::CollocationNlp& nlp, const InputDesignProblem& problem) {
   auto fisher = std::make_shared<const detail::FisherEvaluator>(nlp, problem.measurements,
                                                                 problem.parameters);
   if (problem.criterion == DesignCriterion::E) {
@@ -35,11 +35,50 @@ InputDesignResult design_once(const Model& model, const InputDesignProblem& prob
       if (std::isfinite(a0) && a0 > 0.0) nlp.set_objective_scaling(1.0 / a0);
     }
   }
+  return [&nlp, fisher](std::span<const double> v) { return fisher->fisher(nlp, v); };
+}
+
+// The criterion on lifted F variables (design_fisher_nlp.hpp: exact Hessians).
+std::function<Eigen::MatrixXd(std::span<const double>)> add_lifted_criterion(
+    detail::CollocationNlp& nlp, const InputDesignProblem& problem,
+    std::vector<std::vector<std::size_t>> sensitivity_outputs) {
+  const DesignCriterion c = problem.criterion;
+  auto lifted = std::make_unique<detail::LiftedFisher>(
+      nlp, problem.measurements, std::move(sensitivity_outputs),
+      c == DesignCriterion::A || c == DesignCriterion::D);
+  const detail::LiftedFisher& f = *lifted;
+  nlp.add_constraints(std::move(lifted));
+  if (c == DesignCriterion::E) {
+    nlp.set_objective_scaling(1.0 / f.magnitude());  // t is of the order of F's entries
+    auto epigraph = std::make_unique<detail::FisherVariableEpigraph>(nlp, f);
+    nlp.add_objective(std::make_unique<detail::MaximiseVariable>(epigraph->epigraph_variable()));
+    nlp.add_constraints(std::move(epigraph));
+  } else {
+    nlp.add_objective(std::make_unique<detail::FisherVariableCriterion>(f, c));
+    // Scale the criterion to ~1 at the start: trace F⁻¹ is tiny, trace F large.
+    double c0 = std::abs(criterion_information(c, f.fisher_variables(nlp.initial_guess())));
+    if (c == DesignCriterion::T) nlp.set_objective_scaling(1.0 / f.magnitude());
+    if (c == DesignCriterion::A && std::isfinite(c0) && c0 > 0.0) nlp.set_objective_scaling(1.0 / c0);
+  }
+  return [&nlp, &f](std::span<const double> v) { return f.trajectory_fisher(nlp, v); };
+}
+
+InputDesignResult design_once(const Model& model, const InputDesignProblem& problem) {
+  auto start = std::chrono::steady_clock::now();
+  InputDesignResult out;
+  const OptimalControlProblem& ocp = problem.ocp;
+  detail::CollocationNlp nlp(model, detail::nlp_setup(ocp), {detail::experiment_setup(ocp)});
+  detail::add_problem_terms(nlp, ocp, 0);
+  auto outputs = detail::sensitivity_outputs(model.info(), problem.measurements, problem.parameters);
+  const bool lifted = outputs && ocp.solver.hessian != HessianMode::limited_memory &&
+                      model.provides_hessian(Hessian::f) && model.provides_hessian(Hessian::h);
+  auto fisher = lifted ? add_lifted_criterion(nlp, problem, std::move(*outputs))
+                       : add_trajectory_criterion(nlp, problem);
   double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   detail::IpoptOutcome outcome = detail::solve_with_ipopt(nlp, ocp.solver);
   out.optimization = detail::collect_result(nlp, outcome, 0, ocp.path_constraints);
   out.optimization.timings.nlp_build = build;
-  out.fisher_collocation = fisher->fisher(nlp, outcome.solution);
+  out.fisher_collocation = fisher(outcome.solution);
   out.information_collocation = criterion_information(problem.criterion, out.fisher_collocation);
   out.information_resimulated = nan;
   try {

@@ -6,6 +6,8 @@
 #include <IpSolveStatistics.hpp>
 
 #include <chrono>
+#include <cstdio>
+#include <optional>
 #include <cstdlib>
 #include <functional>
 
@@ -27,7 +29,7 @@ OptimizationStatus map_status(Ipopt::ApplicationReturnStatus s) {
   case Ipopt::Not_Enough_Degrees_Of_Freedom:
   case Ipopt::Invalid_Problem_Definition:
   case Ipopt::Invalid_Option: return OptimizationStatus::invalid_problem;
-  case Ipopt::Search_Direction_Becomes_Too_Small:
+  case Ipopt::Search_Direction_Becomes_Too_Small: return OptimizationStatus::stalled;
   case Ipopt::Diverging_Iterates:
   case Ipopt::Feasible_Point_Found:
   case Ipopt::Unrecoverable_Exception:
@@ -96,9 +98,54 @@ void set_options(Ipopt::OptionsList& o, const SolverOptions& options, bool exact
 
 }  // namespace
 
+namespace {
+
+// Ipopt's default constr_viol_tol: a restoration failure at a point this
+// feasible is a stall, not an infeasibility.
+constexpr double kFeasible = 1e-4;
+
+// One Ipopt run on `nlp` from its initial guess.
+IpoptOutcome run_once(Ipopt::IpoptApplication& app, CollocationNlp& nlp, bool exact,
+                      bool user_scaling, const SolverOptions& options) {
+  IpoptOutcome out;
+  Ipopt::SmartPtr<CollocationTnlp> tnlp =
+      new CollocationTnlp(nlp, exact, user_scaling, options.progress);
+  Ipopt::ApplicationReturnStatus status = app.OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
+  out.status = map_status(status);
+  out.message = describe(status);
+  out.kkt = tnlp->kkt();
+  if (out.status == OptimizationStatus::restoration_failure &&
+      out.kkt.primal_infeasibility <= kFeasible) {
+    out.status = OptimizationStatus::stalled;
+    out.message += ", at a feasible point: stalled";
+  }
+  const bool converged = out.status == OptimizationStatus::success ||
+                         out.status == OptimizationStatus::acceptable;
+  // A trial point rejected on the way (e.g. a step to a non-positive-definite F)
+  // is part of the normal search: name it only when the solve failed.
+  if (!converged && !tnlp->evaluation_error().empty()) out.message += "; " + tnlp->evaluation_error();
+  out.solution = tnlp->last_iterate();
+  out.objective = tnlp->last_objective();
+  out.iterations = IsValid(app.Statistics()) ? int(app.Statistics()->IterationCount()) : 0;
+  out.size = {nlp.num_variables(), nlp.num_constraints(), tnlp->jacobian_nonzeros(),
+              tnlp->hessian_nonzeros()};
+  out.evaluation_seconds = tnlp->evaluation_seconds();
+  return out;
+}
+
+std::string kkt_text(const KktResiduals& k) {
+  char text[160];
+  std::snprintf(text, sizeof text, "; KKT residuals: primal %.2e, dual %.2e, complementarity %.2e",
+                k.primal_infeasibility, k.dual_infeasibility, k.complementarity);
+  return text;
+}
+
+}  // namespace
+
 IpoptOutcome solve_with_ipopt(CollocationNlp& nlp, const SolverOptions& options) {
   IpoptOutcome out;
-  bool exact = options.hessian != HessianMode::limited_memory && nlp.exact_hessian_possible();
+  const bool exact_possible = nlp.exact_hessian_possible();
+  bool exact = options.hessian != HessianMode::limited_memory && exact_possible;
   if (options.hessian == HessianMode::exact && !exact) {
     out.status = OptimizationStatus::invalid_problem;
     out.message = "exact Hessian requested, but the model or an objective term provides none";
@@ -112,6 +159,9 @@ IpoptOutcome solve_with_ipopt(CollocationNlp& nlp, const SolverOptions& options)
   app->RethrowNonIpoptException(false);
   set_options(*app->Options(), options, exact, user_scaling);
   app->Options()->SetNumericValue("obj_scaling_factor", nlp.objective_scaling());
+  double evaluation_seconds = 0.0;
+  bool restarted = false;
+  std::optional<IpoptOutcome> stalled;
   for (std::size_t attempt = 0;; ++attempt) {
     if (app->Initialize("") != Ipopt::Solve_Succeeded) {
       out.status = OptimizationStatus::invalid_problem;
@@ -120,24 +170,39 @@ IpoptOutcome solve_with_ipopt(CollocationNlp& nlp, const SolverOptions& options)
     }
     if (attempt == 0 && !options.log_file.empty())  // the journal stays open: one log, all attempts
       app->OpenOutputFile(options.log_file, Ipopt::J_ITERSUMMARY);
-    Ipopt::SmartPtr<CollocationTnlp> tnlp =
-        new CollocationTnlp(nlp, exact, user_scaling, options.progress);
-    Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(Ipopt::GetRawPtr(tnlp));
-    out.status = map_status(status);
-    out.message = describe(status);
-    if (!tnlp->evaluation_error().empty()) out.message += "; " + tnlp->evaluation_error();
-    out.solution = tnlp->last_iterate();
-    out.objective = tnlp->last_objective();
-    out.iterations = IsValid(app->Statistics()) ? int(app->Statistics()->IterationCount()) : 0;
-    out.size = {nlp.num_variables(), nlp.num_constraints(), tnlp->jacobian_nonzeros(),
-                tnlp->hessian_nonzeros()};
-    out.evaluation_seconds += tnlp->evaluation_seconds();
+    std::vector<std::string> earlier = std::move(out.retries);
+    out = run_once(*app, nlp, exact, user_scaling, options);
+    out.retries = std::move(earlier);
+    evaluation_seconds += out.evaluation_seconds;
+    if (out.status == OptimizationStatus::stalled && !restarted && options.retry_on_solver_failure) {
+      // The fallback for a stall: restart once from the last iterate, with the
+      // other Hessian mode where both exist (a fresh L-BFGS memory otherwise).
+      restarted = true;
+      stalled = out;
+      exact = exact_possible && !exact;
+      app->Options()->SetStringValue("hessian_approximation", exact ? "exact" : "limited-memory");
+      nlp.set_initial_guess(out.solution);
+      out.retries.push_back("after " + out.message + ": restarting from the last iterate with the " +
+                            (exact ? "exact" : "limited-memory") + " Hessian");
+      continue;
+    }
     if (!options.retry_on_solver_failure || !retryable(out.status) || attempt >= changes.size())
       break;
-    out.retries.push_back("after " + describe(status) + ": retrying with " + changes[attempt].what);
+    out.retries.push_back("after " + out.message + ": retrying with " + changes[attempt].what);
     changes[attempt].apply(*app->Options(), user_scaling);
   }
+  const bool converged = out.status == OptimizationStatus::success ||
+                         out.status == OptimizationStatus::acceptable;
+  if (stalled && !converged) {  // the restart did not help: report the stall
+    const std::string ended(to_string(out.status));
+    std::vector<std::string> tried = std::move(out.retries);
+    out = *stalled;
+    out.retries = std::move(tried);
+    out.message += " (the restart ended " + ended + ")";
+  }
+  out.evaluation_seconds = evaluation_seconds;
   out.solve_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (out.status == OptimizationStatus::stalled) out.message += kkt_text(out.kkt);
   if (!out.retries.empty()) out.message += " after " + std::to_string(out.retries.size()) + " retries";
   return out;
 }

@@ -17,6 +17,7 @@ struct IpoptOutcome {
   std::vector<std::string> retries;
   double objective = 0.0;
   int iterations = 0;
+  KktResiduals kkt;
   std::vector<double> solution;  ///< last iterate (the initial guess if none was reached)
   NlpSize size;
   double solve_seconds = 0.0;

@@ -1,5 +1,8 @@
 #include "ipopt_tnlp.hpp"
 
+#include <IpIpoptCalculatedQuantities.hpp>
+#include <IpIpoptData.hpp>
+
 #include <algorithm>
 #include <cmath>
 #include <exception>

@@ -57,6 +57,8 @@ public:
   [[nodiscard]] double evaluation_seconds() const { return evaluation_seconds_; }
   [[nodiscard]] bool finalized() const { return finalized_; }
   [[nodiscard]] const std::string& evaluation_error() const { return evaluation_error_; }
+  /// Unscaled KKT residuals at the final point (NaN if Ipopt gave none).
+  [[nodiscard]] const KktResiduals& kkt() const { return kkt_; }
 
 private:
   template <class F> bool guarded(const char* what, F&& body);
@@ -69,6 +71,7 @@ private:
   double last_objective_ = 0.0, evaluation_seconds_ = 0.0;
   bool finalized_ = false;
   std::string evaluation_error_;
+  KktResiduals kkt_;
 };
 
 }  // namespace mo::runtime::detail

@@ -88,6 +88,7 @@ std::string_view to_string(OptimizationStatus status) {
   case OptimizationStatus::linear_solver_failure: return "linear_solver_failure";
   case OptimizationStatus::restoration_failure: return "restoration_failure";
   case OptimizationStatus::user_stop: return "user_stop";
+  case OptimizationStatus::stalled: return "stalled";
   case OptimizationStatus::invalid_problem: return "invalid_problem";
   case OptimizationStatus::solver_error: return "solver_error";
   }

@@ -110,6 +110,7 @@ OptimizationResult collect_result(CollocationNlp& nlp, const IpoptOutcome& outco
   OptimizationResult r;
   r.status = outcome.status, r.message = outcome.message, r.retries = outcome.retries;
   r.objective = outcome.objective, r.iterations = outcome.iterations, r.size = outcome.size;
+  r.kkt = outcome.kkt;
   r.timings.solve = outcome.solve_seconds;
   r.timings.function_evaluations = outcome.evaluation_seconds;
   const ModelInfo& info = nlp.info();
@@ -157,6 +158,10 @@ std::string optimization_summary_json(const OptimizationResult& r, const ModelIn
   j["retries"] = r.retries;
   j["objective"] = r.objective;
   j["iterations"] = r.iterations;
+  auto finite = [](double x) { return std::isfinite(x) ? nlohmann::ordered_json(x) : nullptr; };
+  j["kkt"] = {{"primal_infeasibility", finite(r.kkt.primal_infeasibility)},
+              {"dual_infeasibility", finite(r.kkt.dual_infeasibility)},
+              {"complementarity", finite(r.kkt.complementarity)}};
   j["nlp"] = {{"variables", r.size.variables}, {"constraints", r.size.constraints},
               {"jacobian_nonzeros", r.size.jacobian_nonzeros},
               {"hessian_nonzeros", r.size.hessian_nonzeros}};

@@ -9,8 +9,11 @@
 // subject to the optimal control problem's dynamics, bounds and constraints:
 //   A: min trace F⁻¹   T: max trace F   D: max log det F   E: max λ_min(F)
 // (E via an epigraph variable s and F − s·I = L·Lᵀ with L lower triangular).
-// F is a dense function of all measurement points, so these problems always
-// use Ipopt's limited-memory Hessian.
+// When the model has the output sensitivities d(y)/d(p) and provides Hessians
+// (every generated model does), F's entries are NLP variables defined by
+// equality rows, and the Lagrangian Hessian is exact and sparse
+// (docs/design-formulation.md); otherwise, or with HessianMode::limited_memory,
+// the criterion is a function of the trajectory and Ipopt's L-BFGS is used.
 #pragma once
 
 #include "mo/runtime/optimize.hpp"

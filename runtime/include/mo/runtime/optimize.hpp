@@ -102,6 +102,13 @@ struct CollocationOptions {
   /// Relative element lengths (n_e positive numbers, normalised to sum 1);
   /// empty means uniform.
   std::vector<double> element_lengths;
+  /// JModelica's init_traj: start the states (sensitivity states included) from a
+  /// simulation of the initial inputs; false starts them at their start values.
+  bool init_traj = true;
+  /// JModelica's nominal_traj: scale each state's variables and its collocation
+  /// rows by the largest |x| of that simulation (the nominal attribute where that
+  /// is below 1% of it); false uses the nominal attribute. Needs init_traj.
+  bool nominal_traj = true;
 };
 
 /// One Ipopt iteration, as reported to the progress callback.
@@ -174,6 +181,10 @@ enum class OptimizationStatus {
   linear_solver_failure,  ///< step computation failed (also after the retries)
   restoration_failure,    ///< restoration phase failed (also after the retries)
   user_stop,              ///< the progress callback returned false
+  /// Ipopt stopped short of its tolerance at a feasible point: the search direction
+  /// became too small, or restoration failed although the constraints held. The last
+  /// iterate is returned; `kkt` says how far from a KKT point it is.
+  stalled,
   invalid_problem,        ///< inconsistent problem description; nothing solved
   solver_error,           ///< any other Ipopt failure; see the message
 };
@@ -187,6 +198,13 @@ struct NlpSize {
   int constraints = 0;          ///< m
   int jacobian_nonzeros = 0;    ///< nnz of ∂g/∂v
   int hessian_nonzeros = 0;     ///< nnz of the Lagrangian Hessian's lower triangle (0 for L-BFGS)
+};
+
+/// Unscaled KKT residuals of the returned point (max norms; NaN if unknown).
+struct KktResiduals {
+  double primal_infeasibility = std::numeric_limits<double>::quiet_NaN();  ///< max |g| violation
+  double dual_infeasibility = std::numeric_limits<double>::quiet_NaN();    ///< max |∇L|
+  double complementarity = std::numeric_limits<double>::quiet_NaN();       ///< max |z·s|
 };
 
 /// Wall-clock seconds spent in each phase.
@@ -217,6 +235,7 @@ struct OptimizationResult {
   std::vector<std::string> retries;  ///< one line per retried solve: what was changed
   double objective = 0.0;     ///< objective at the returned point
   int iterations = 0;         ///< Ipopt iterations of the last attempt
+  KktResiduals kkt;           ///< how close the returned point is to a KKT point
   NlpSize size;               ///< NLP dimensions
   OptimizationTimings timings;  ///< where the time went
   /// States then inputs at every element boundary and collocation point (sorted by time).
