@@ -26,22 +26,27 @@ std::string quote(const std::string& s) {
   return out + "'";
 }
 
-std::string series_text(const Series& s) {
+/// Line colours in order (dark enough on white, distinct in grey print).
+const char* const kPalette[] = {"#1f4e99", "#d95f02", "#7570b3", "#1b9e77", "#e7298a", "#66a61e", "#a6761d"};
+
+/// `k`: the index of this curve among the panel's lines (for its colour).
+std::string series_text(const Series& s, std::size_t k) {
   const std::string file = quote(s.file);
   const std::string y = s.y_expr.empty() ? std::to_string(s.y) : s.y_expr;
   const std::string title = " title " + quote(s.title);
+  const std::string color = fmt::format(" lc rgb '{}'", kPalette[k % std::size(kPalette)]);
   switch (s.style) {
     case SeriesStyle::line:
-      return fmt::format("{} using {}:{} with lines lw 2{}", file, s.x, y, title);
+      return fmt::format("{} using {}:{} with lines lw 2{}{}", file, s.x, y, color, title);
     case SeriesStyle::dotted:
-      return fmt::format("{} using {}:{} with lines lw 2 dt 3{}", file, s.x, y, title);
+      return fmt::format("{} using {}:{} with lines lw 2.5 dt 3{}{}", file, s.x, y, color, title);
     case SeriesStyle::points:
-      return fmt::format("{} using {}:{} with points pt 7 ps 0.4{}", file, s.x, y, title);
+      return fmt::format("{} using {}:{} with points pt 7 ps 0.35 lc rgb '#555555'{}", file, s.x, y, title);
     case SeriesStyle::steps:
-      return fmt::format("{} using {}:{} with steps lw 2{}", file, s.x, y, title);
+      return fmt::format("{} using {}:{} with steps lw 2{}{}", file, s.x, y, color, title);
     case SeriesStyle::band:
-      return fmt::format("{} using {}:{}:{} with filledcurves fs transparent solid 0.3 noborder{}", file,
-                         s.x, s.y, s.y_high, title);
+      return fmt::format("{} using {}:{}:{} with filledcurves fs transparent solid 0.35 noborder lc rgb '#f4a582'{}",
+                         file, s.x, s.y, s.y_high, title);
   }
   return {};
 }
@@ -59,8 +64,10 @@ std::string figure_body(const Figure& f) {
     for (const auto& [t, v] : p.targets) gp << fmt::format("{:.17g},{:.17g}\n", t, v);
     gp << "EOD\n";
     std::string sep = "plot ";
+    std::size_t lines = 0;
     for (const Series& s : p.series) {
-      gp << sep << series_text(s);
+      const bool is_line = s.style != SeriesStyle::points && s.style != SeriesStyle::band;
+      gp << sep << series_text(s, is_line ? lines++ : 0);
       sep = ", \\\n  ";
     }
     for (std::size_t b = 0; b < p.bounds.size(); ++b) {

@@ -64,6 +64,7 @@ ProgressOptions stderr_progress_options(bool quiet, const std::string& tool) {
   o.quiet = quiet;
   o.tool = tool;
   o.terminal = ::isatty(STDERR_FILENO) != 0;
+  if (!o.terminal) o.interval_seconds = 10.0;  // a log file gets a line every 10 s
   if (const char* env = std::getenv("MO_PROGRESS_SECONDS")) {
     char* end = nullptr;
     const double s = std::strtod(env, &end);
