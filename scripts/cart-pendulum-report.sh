@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Writes the one-page report of the cart-pendulum study (Markdown, figures
-# inlined by relative path) from the result directory of
+# inlined by relative path; build/tools/moreport turns it into report.html) from the result directory of
 # scripts/cart-pendulum-study.sh. Usage: scripts/cart-pendulum-report.sh OUT
 set -euo pipefail
 out=$1
@@ -55,7 +55,9 @@ re-simulated information and the bound violation of \`design_ncp1\` with \`desig
 
 ![designed input, n_cp = 3](design/inputs.png)
 
-![states under the designed input (dashed: bounds; dotted: re-simulation)](design/states.png)
+![states under the designed input (dashed: bounds; dotted: re-simulation; circles: end-point targets)](design/states.png)
+
+![sensitivities of the measured outputs to m2 under the designed input (what the design maximises)](design/sensitivities.png)
 
 ![the paper's n_cp = 1 design, re-simulated](design_ncp1/states.png)
 
@@ -84,7 +86,7 @@ cat <<EOF
 The paper reports 1.0 kg without noise and 1.017 kg with noise. With n_cp = 1 on 500 elements the
 discretisation alone biases the noise-free estimate (third row); n_cp = 3 recovers it exactly.
 
-![measured and fitted outputs](estimate/fit.png)
+![measured outputs (points), the model at the estimate (line) and its 95 % confidence band](estimate/fit.png)
 
 ## 4. Design ↔ estimation loop (the paper's future work)
 

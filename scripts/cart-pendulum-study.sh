@@ -9,7 +9,7 @@
 #   4 loop       design <-> estimation from a wrong guess m2 = 0.5
 #   5 monte      estimator spread vs Cramer-Rao bound and CI coverage for the
 #                designed input, the 1 Hz sine and a slow rest-to-rest sine
-# and writes results/cart-pendulum/ with report.md. Needs a built tree.
+# and writes results/cart-pendulum/ with report.md and report.html. Needs a built tree.
 # Usage: scripts/cart-pendulum-study.sh [BUILD_DIR]   (SEEDS=100 by default)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -80,4 +80,7 @@ run monte "$cp/CartPendulumMonteCarlo.opt" -L "$ode" -o "$out/monte_carlo" --opt
 
 "$root/scripts/cart-pendulum-report.sh" "$out" > "$out/report.md.tmp"
 mv "$out/report.md.tmp" "$out/report.md"
-step "done: $out/report.md"
+# The same page as one self-contained HTML file (figures inlined as SVG).
+"$build/tools/moreport" "$out/report.md" -o "$out/report.html" ||
+  echo "cart-pendulum: report.html is missing figures (see above)" >&2
+step "done: $out/report.md, $out/report.html"

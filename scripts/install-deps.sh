@@ -11,6 +11,7 @@ packages=(
   libeigen3-dev coinor-libipopt-dev libsundials-dev
   antlr4 libantlr4-runtime-dev libfmt-dev catch2 libcli11-dev nlohmann-json3-dev
   gnuplot-nox jq clang-14 libclang-rt-14-dev
+  chromium  # the test that opens report.html headless
 )
 
 missing=()

@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <iostream>
+#include <optional>
 
 #include "mo/codegen/generate.hpp"
 
@@ -71,13 +72,21 @@ std::unique_ptr<runtime::InputSignal> parse_signal(const std::string& name, cons
   throw UsageError(context + ": unknown signal '" + kind + "' (sine, step, const, csv, pwc)");
 }
 
-BuiltModel build_model(symbolic::OdeModel& ode, unsigned jobs, const std::string& tool) {
-  const auto generated = codegen::generate_cpp(ode);
+BuiltModel build_model(symbolic::OdeModel& ode, unsigned jobs, const std::string& tool,
+                       RunContext* run, bool quiet) {
+  std::optional<codegen::GeneratedSources> generated_storage;
+  {
+    PhaseScope phase(run, "generate", fmt::format("C++ for {} states", ode.states.size()));
+    generated_storage.emplace(codegen::generate_cpp(ode));
+  }
+  const auto& generated = *generated_storage;
   codegen::CompilerOptions co = codegen::runtime_compiler_options();
   co.jobs = jobs;
   BuiltModel out;
+  PhaseScope phase(run, "compile", fmt::format("{} files, {} jobs", generated.sources().size(), jobs));
   out.compiled = codegen::compile_shared_object(generated, co);
-  if (out.compiled.cached)
+  if (quiet) {
+  } else if (out.compiled.cached)
     std::cerr << tool << ": model cached (" << out.compiled.library << ")\n";
   else
     std::cerr << fmt::format("{}: model compiled in {:.2f} s ({} instructions, {} files)\n", tool,

@@ -12,6 +12,7 @@
 #include "mo/runtime/input.hpp"
 #include "mo/runtime/model.hpp"
 #include "mo/symbolic/ode.hpp"
+#include "progress.hpp"
 
 namespace mo::tools {
 
@@ -40,8 +41,10 @@ struct BuiltModel {
 
 /// Generates C++ for `ode`, compiles it with `jobs` parallel jobs (cached by
 /// content hash), loads it and prints one line ("compiled in" / "cached") to
-/// stderr prefixed with `tool`. Throws codegen::CompileError on failure.
-BuiltModel build_model(symbolic::OdeModel& ode, unsigned jobs, const std::string& tool);
+/// stderr prefixed with `tool` (unless `quiet`). With `run`, the generate and
+/// compile phases show progress and are timed. Throws codegen::CompileError on failure.
+BuiltModel build_model(symbolic::OdeModel& ode, unsigned jobs, const std::string& tool,
+                       RunContext* run = nullptr, bool quiet = false);
 
 /// The full path of `program` on PATH, or empty.
 std::string find_on_path(const std::string& program);

@@ -24,6 +24,8 @@
 #include "common.hpp"
 #include "measured_outputs.hpp"
 #include "pipeline.hpp"
+#include "plot.hpp"
+#include "progress.hpp"
 #include "study.hpp"
 
 namespace fs = std::filesystem;
@@ -47,6 +49,7 @@ struct Options {
   double noise = 0.0;                // their noise standard deviation
   unsigned long seed = 1;            // of the noise
   bool aliases = false;              // eliminated variables in result.csv too
+  bool quiet = false;                // no progress on stderr
 };
 
 using tools::number;
@@ -86,26 +89,6 @@ runtime::Inputs inputs(const runtime::ModelInfo& info, const Options& opt) {
   return runtime::Inputs(std::move(signals));
 }
 
-/// One PNG per group (states, outputs) of result.csv, by gnuplot.
-void plot(const std::string& dir, const runtime::ModelInfo& info) {
-  const std::string script_path = (fs::path(dir) / "plot.gp").string();
-  std::ofstream gp(script_path);
-  gp << "set datafile separator ','\nset terminal pngcairo noenhanced size 1000,600\nset xlabel 'time'\n"
-        "set key outside right\n";
-  auto group = [&](const std::string& file, std::size_t first, std::size_t count) {
-    if (count == 0) return;
-    gp << "set output '" << (fs::path(dir) / file).string() << "'\nplot ";
-    for (std::size_t k = 0; k < count; ++k)  // column titles from the header, never pasted as text
-      gp << (k ? ", " : "") << "'" << (fs::path(dir) / "result.csv").string() << "' using 1:" << first + k + 2
-         << " with lines title columnhead";
-    gp << "\n";
-  };
-  group("states.png", 0, info.num_base_states());
-  group("outputs.png", info.states.size(), info.outputs.size());
-  gp.close();
-  tools::run_gnuplot(script_path);
-}
-
 /// DIR/measurements.csv: the --measure outputs at the output times after t0,
 /// each plus white noise of standard deviation --noise (seeded by --seed).
 void write_measurements(const Options& opt, const runtime::ModelInfo& info,
@@ -127,10 +110,14 @@ void write_measurements(const Options& opt, const runtime::ModelInfo& info,
   runtime::write_csv_atomic((fs::path(opt.output) / "measurements.csv").string(), out);
 }
 
-int run(const Options& opt) {
+int run(const Options& opt, tools::RunContext& ctx) {
   frontend::SourceManager sources;
   frontend::DiagnosticEngine diags(sources);
-  auto flat = tools::load_flat_model(opt.source, sources, diags);
+  std::unique_ptr<frontend::flat::Model> flat;
+  {
+    tools::PhaseScope phase(&ctx, "flatten", opt.source.file);
+    flat = tools::load_flat_model(opt.source, sources, diags);
+  }
   if (!flat) {
     diags.print(std::cerr);
     return 1;
@@ -146,21 +133,25 @@ int run(const Options& opt) {
     return tools::run_study(*flat, opt.study, diags);
   }
   if (opt.stop_time <= 0) throw UsageError("--stop-time is required to simulate a model");
-  auto ode = tools::lower_model(*flat, diags);
-  diags.print(std::cerr);
-  if (!ode) return 1;
-  tools::expose_start_parameters(*ode, opt.sets);  // --set x.start=v
-  tools::expose_start_parameters(*ode, opt.sensitivities);
-  if (const auto unknown = tools::add_measured_outputs(*ode, opt.measure); !unknown.empty())
-    throw UsageError("--measure: the model has no variable '" + unknown.front() + "'");
-  if (auto error = tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty())
-    throw UsageError(error);
+  std::optional<symbolic::OdeModel> ode;
+  {
+    tools::PhaseScope phase(&ctx, "lower", flat->name);
+    ode = tools::lower_model(*flat, diags);
+    diags.print(std::cerr);
+    if (!ode) return 1;
+    tools::expose_start_parameters(*ode, opt.sets);  // --set x.start=v
+    tools::expose_start_parameters(*ode, opt.sensitivities);
+    if (const auto unknown = tools::add_measured_outputs(*ode, opt.measure); !unknown.empty())
+      throw UsageError("--measure: the model has no variable '" + unknown.front() + "'");
+    if (auto error = tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty())
+      throw UsageError(error);
+  }
   if (opt.aliases)  // eliminated variables become extra outputs, so extra columns
     for (const auto& e : ode->eliminated)
       if (std::none_of(ode->outputs.begin(), ode->outputs.end(),
                        [&](const auto& y) { return y.info.name == e.info.name; }))
         ode->outputs.push_back(e);
-  tools::BuiltModel built = tools::build_model(*ode, opt.jobs, "morun");
+  tools::BuiltModel built = tools::build_model(*ode, opt.jobs, "morun", &ctx, opt.quiet);
   const auto& compiled = built.compiled;
   runtime::Model* model = built.model.get();
   const runtime::ModelInfo& info = model->info();
@@ -173,8 +164,12 @@ int run(const Options& opt) {
   // reported by simulate() instead of silently missing from the columns.
   for (const auto& name : opt.sensitivities)
     if (const auto k = info.parameter_index(name)) so.sensitivities.parameters.push_back(*k);
-  const auto result = runtime::simulate(*model, inputs(info, opt),
-                                        p, runtime::OutputGrid::uniform(0.0, opt.stop_time, opt.intervals), so);
+  runtime::SimulationResult result;
+  {
+    tools::PhaseScope phase(&ctx, "simulate", fmt::format("t = 0 .. {}", opt.stop_time));
+    result = runtime::simulate(*model, inputs(info, opt), p,
+                               runtime::OutputGrid::uniform(0.0, opt.stop_time, opt.intervals), so);
+  }
   fs::create_directories(opt.output);
   runtime::write_csv_atomic((fs::path(opt.output) / "result.csv").string(), result.trajectory);
   if (!opt.measure.empty() && result.ok()) write_measurements(opt, info, result.trajectory);
@@ -182,6 +177,8 @@ int run(const Options& opt) {
   summary["model"] = info.name;
   summary["compile"] = {{"cached", compiled.cached}, {"seconds", compiled.seconds},
                         {"library", compiled.library}, {"key", compiled.key}};
+  summary["units"] = tools::unit_map(info);
+  summary["timings_seconds"] = ctx.timings.json();
   runtime::write_file_atomic((fs::path(opt.output) / "summary.json").string(),
                              [&](std::ostream& os) { os << summary.dump(2) << "\n"; });
   if (!model->last_failure().empty()) std::cerr << "morun: model: " << model->last_failure() << "\n";
@@ -190,7 +187,7 @@ int run(const Options& opt) {
               << result.message << "\n";
     return 1;
   }
-  if (opt.plot) plot(opt.output, info);
+  if (opt.plot) tools::plot_simulation(opt.output, info);
   std::cerr << fmt::format("morun: simulated to t = {} in {:.3f} s; results in {}\n", opt.stop_time,
                            result.statistics.wall_time_seconds, opt.output);
   return 0;
@@ -223,7 +220,9 @@ int main(int argc, char** argv) {
   app.add_option("-o,--output", opt.output, "Result directory")->capture_default_str();
   app.add_flag("--aliases", opt.aliases,
                "Also write the variables that lowering eliminated (aliases, constants) to result.csv");
-  app.add_flag("--plot", opt.plot, "Also write PNG plots (needs gnuplot)");
+  app.add_flag("--plot", opt.plot, "Also write plots, PNG and SVG (needs gnuplot)");
+  app.add_flag("-q,--quiet", opt.quiet,
+               "No progress on stderr (by default work longer than 2 s reports its stage, at most once a second)");
   app.add_option("-j,--jobs", opt.jobs, "Compile this many generated files in parallel")->capture_default_str();
   app.add_option("--measure", opt.measure,
                  "Also write DIR/measurements.csv: these variables (outputs, states, algebraic variables, aliases) at the output times after 0")
@@ -245,8 +244,13 @@ int main(int argc, char** argv) {
   opt.study.study_file = opt.source.file;
   opt.study.jobs = opt.jobs;
   opt.study.plot = opt.plot;
+  opt.study.quiet = opt.quiet;
+  tools::Progress progress(std::cerr, tools::stderr_progress_options(opt.quiet, "morun"));
+  tools::RunContext ctx;
+  ctx.progress = &progress;
+  opt.study.run = &ctx;
   try {
-    return run(opt);
+    return run(opt, ctx);
   } catch (const UsageError& e) {
     std::cerr << "morun: error: " << e.what() << "\n";
     return 2;

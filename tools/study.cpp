@@ -14,6 +14,7 @@
 #include "study_internal.hpp"
 #include "study_output.hpp"
 #include "study_time_scaling.hpp"
+#include "study_plots.hpp"
 
 namespace fs = std::filesystem;
 
@@ -66,6 +67,22 @@ std::vector<double> parameter_values(const runtime::ModelInfo& info, const Study
   return p;
 }
 
+void move_to_simulate(RunContext* run, double seconds) {
+  if (!run) return;
+  run->timings.add("solve", -seconds);
+  run->timings.add("simulate", seconds);
+}
+
+runtime::ProgressCallback solver_progress(RunContext* run) {
+  if (!run || !run->progress) return nullptr;
+  Progress* progress = run->progress;
+  return [progress](const runtime::IterationInfo& it) {
+    progress->detail(fmt::format("iteration {}{}, objective {:.6g}, infeasibility {:.2e}", it.iteration,
+                                 it.restoration ? " (restoration)" : "", it.objective, it.inf_pr));
+    return true;
+  };
+}
+
 runtime::SolverOptions solver_options(const Study& s) {
   runtime::SolverOptions so;
   const StudyOptions& o = s.opt;
@@ -79,7 +96,7 @@ runtime::SolverOptions solver_options(const Study& s) {
   so.acceptable_iterations = o.acceptable_iter;
   so.acceptable_objective_change = o.acceptable_obj_change_tol;
   so.log_file = (fs::path(s.cli.output) / "ipopt.log").string();
-  so.progress = runtime::print_progress(std::cerr);
+  so.progress = solver_progress(s.cli.run);
   for (const auto& text : o.ipopt_options) {
     auto [name, value] = split_assignment(text, "study option ipopt_options:");
     so.ipopt_options[name] = value;
@@ -171,7 +188,12 @@ int optimal_control(Study& s) {
     tf_index = parameter_index(s.info(), free->parameter);
     bound_final_time(p, *tf_index, free->start);
   }
-  runtime::OptimizationResult r = runtime::solve(*s.built.model, p);
+  runtime::OptimizationResult r;
+  {
+    PhaseScope phase(s.cli.run, "solve", "optimal control");
+    r = runtime::solve(*s.built.model, p);
+  }
+  move_to_simulate(s.cli.run, r.timings.resimulation);
   nlohmann::json extra = nlohmann::json::object();
   if (free) {  // report in real time: [t0, tf] instead of τ ∈ [0, 1]
     const double tf = r.parameters.empty() ? std::nan("") : r.parameters[*tf_index];
@@ -182,7 +204,7 @@ int optimal_control(Study& s) {
     std::cerr << fmt::format("morun: free final time: {:.6g}\n", tf);
   }
   write_optimization_outputs(s.cli.output, s.info(), p, r, extra);
-  if (s.opt.plot || s.cli.plot) plot_optimization(s.cli.output, s.info(), p, r);
+  if (s.opt.plot || s.cli.plot) plot_optimization(s.cli.output, s.info(), p, s.problem, "optimal control");
   return report("optimal control", r);
 }
 
@@ -226,11 +248,30 @@ int design(Study& s) {
   if (!d.ocp.controls.empty())
     for (const auto& spec : s.opt.starts)
       d.starts.push_back(parse_signal(s.info().inputs[d.ocp.controls[0].input].name, spec));
-  const runtime::InputDesignResult r = runtime::design_input(*s.built.model, d);
+  if (s.cli.run && s.cli.run->progress) {
+    Progress* progress = s.cli.run->progress;
+    d.on_start = [progress](std::size_t k, std::size_t n, double best) {
+      progress->context(std::isfinite(best) ? fmt::format("start {} of {}, best so far {:.6g}", k + 1, n, best)
+                                            : fmt::format("start {} of {}", k + 1, n));
+    };
+  }
+  runtime::InputDesignResult r;
+  {
+    PhaseScope phase(s.cli.run, "solve", "input design");
+    r = runtime::design_input(*s.built.model, d);
+  }
+  move_to_simulate(s.cli.run, r.optimization.timings.resimulation);
   write_optimization_outputs(s.cli.output, s.info(), d.ocp, r.optimization,
                              design_json(s.info(), d, r));
   write_designed_input(s.cli.output, s.info(), d.ocp, r.optimization);
-  if (s.opt.plot || s.cli.plot) plot_optimization(s.cli.output, s.info(), d.ocp, r.optimization);
+  if (s.opt.plot || s.cli.plot) {
+    PhaseScope phase(s.cli.run, "simulate", "sensitivities under the designed input");
+    plot_optimization(s.cli.output, s.info(), d.ocp, s.problem,
+                      fmt::format("{}-optimal input design (n_e = {}, n_cp = {})", s.opt.criterion,
+                                  d.ocp.collocation.n_e, d.ocp.collocation.n_cp));
+    if (write_design_sensitivities(s.cli.output, *s.built.model, d, r.optimization))
+      plot_design_sensitivities(s.cli.output, s.info(), d);
+  }
   std::cerr << fmt::format("morun: {}-criterion information: {:.6g} (collocation), {:.6g} "
                            "(re-simulated)\n",
                            s.opt.criterion, r.information_collocation, r.information_resimulated);
@@ -255,9 +296,21 @@ int estimation(Study& s) {
   e.collocation = collocation_options(s.opt);
   e.solver = solver_options(s);
   e.confidence = s.opt.confidence;
-  const runtime::EstimationResult r = runtime::estimate_parameters(*s.built.model, e);
-  write_estimation_outputs(s.cli.output, *s.built.model, e, r);
-  if (s.opt.plot || s.cli.plot) plot_fit(s.cli.output, s.info(), e);
+  runtime::EstimationResult r;
+  {
+    PhaseScope phase(s.cli.run, "solve", "estimation");
+    r = runtime::estimate_parameters(*s.built.model, e);
+  }
+  for (const auto& ex : r.experiments) move_to_simulate(s.cli.run, ex.timings.resimulation);
+  {
+    PhaseScope phase(s.cli.run, "simulate", "fit at the estimate");
+    write_estimation_outputs(s.cli.output, *s.built.model, e, r);
+  }
+  if (s.opt.plot || s.cli.plot) {
+    PhaseScope phase(s.cli.run, "simulate", "prediction band at the estimate");
+    write_prediction(s.cli.output, *s.built.model, e, r);
+    plot_fit(s.cli.output, s.info(), e, r);
+  }
   print_estimates(std::cerr, r);
   return r.status == runtime::OptimizationStatus::success ||
                  r.status == runtime::OptimizationStatus::acceptable
@@ -319,23 +372,29 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
     scale_time(flat, *problem);
   }
   std::optional<symbolic::OdeModel> ode;
-  if (parsed.errors.empty() && parsed.ok && problem) ode = lower_model(flat, diags);
-  if (ode && reject_events_in_study(flat, *ode, diags)) ode.reset();
-  diags.print(std::cerr);  // once: warnings, or the errors that stop here
-  if (!parsed.errors.empty()) return 2;
-  if (!ode) return 1;
-  std::vector<std::string> states;
-  for (const auto& x : ode->states) states.push_back(x.info.name);
-  drop_state_bounds(*problem, states);
-  add_measured_outputs(*ode, measured_names(parsed.options, cli.study_file));
-  if (const auto params = sensitivity_parameters(flat, parsed.options); !params.empty())
-    if (auto error = add_named_sensitivities(*ode, params); !error.empty()) throw UsageError(error);
-  Study s{flat, cli, std::move(parsed.options), std::move(*problem), build_model(*ode, cli.jobs, "morun")};
+  {
+    PhaseScope phase(cli.run, "lower", flat.name);
+    if (parsed.errors.empty() && parsed.ok && problem) ode = lower_model(flat, diags);
+    if (ode && reject_events_in_study(flat, *ode, diags)) ode.reset();
+    diags.print(std::cerr);  // once: warnings, or the errors that stop here
+    if (!parsed.errors.empty()) return 2;
+    if (!ode) return 1;
+    std::vector<std::string> states;
+    for (const auto& x : ode->states) states.push_back(x.info.name);
+    drop_state_bounds(*problem, states);
+    add_measured_outputs(*ode, measured_names(parsed.options, cli.study_file));
+    if (const auto params = sensitivity_parameters(flat, parsed.options); !params.empty())
+      if (auto error = add_named_sensitivities(*ode, params); !error.empty()) throw UsageError(error);
+  }
+  Study s{flat, cli, std::move(parsed.options), std::move(*problem),
+          build_model(*ode, cli.jobs, "morun", cli.run, cli.quiet)};
   fs::create_directories(cli.output);
-  if (s.opt.task == "design") return design(s);
-  if (s.opt.task == "estimation") return estimation(s);
-  if (s.opt.task == "monte_carlo") return monte_carlo(s);
-  return optimal_control(s);
+  const int status = s.opt.task == "design"        ? design(s)
+                     : s.opt.task == "estimation"  ? estimation(s)
+                     : s.opt.task == "monte_carlo" ? monte_carlo(s)
+                                                   : optimal_control(s);
+  if (cli.run) record_timings(cli.output, cli.run->timings);
+  return status;
 }
 
 }  // namespace mo::tools

@@ -11,6 +11,7 @@
 
 #include "mo/frontend/diagnostics.hpp"
 #include "mo/frontend/flat.hpp"
+#include "progress.hpp"
 
 namespace mo::tools {
 
@@ -22,6 +23,8 @@ struct StudyCli {
   std::vector<std::string> sets;            ///< --set p=v: parameter values of the study
   unsigned jobs = 2;                        ///< parallel compile jobs
   bool plot = false;                        ///< --plot (the option `plot` also enables it)
+  bool quiet = false;                       ///< --quiet: no progress, no compile note
+  RunContext* run = nullptr;                ///< progress and timings of the run, may be null
 };
 
 /// Runs the study of `flat` (which must have an optimization part; it gains

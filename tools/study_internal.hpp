@@ -29,8 +29,13 @@ std::size_t output_index(const runtime::ModelInfo& info, const std::string& name
 std::size_t parameter_index(const runtime::ModelInfo& info, const std::string& name);
 /// The model's defaults with --set p=v applied.
 std::vector<double> parameter_values(const runtime::ModelInfo& info, const StudyCli& cli);
-/// Ipopt settings from the options (log to DIR/ipopt.log, progress to stderr).
+/// Ipopt settings from the options (log to DIR/ipopt.log, progress to the run's status line).
 runtime::SolverOptions solver_options(const Study& s);
+/// A solver callback showing iteration, objective and infeasibility on the
+/// run's status line; empty without a run.
+runtime::ProgressCallback solver_progress(RunContext* run);
+/// Moves `seconds` (a re-simulation inside a solve) from the solve phase to simulate.
+void move_to_simulate(RunContext* run, double seconds);
 /// n_e, n_cp, scheme and element lengths.
 runtime::CollocationOptions collocation_options(const StudyOptions& o);
 /// Parameters declared free = true, with bounds and initial guesses.

@@ -10,6 +10,7 @@
 // the coverage of the confidence intervals.
 #include <fmt/format.h>
 
+#include <chrono>
 #include <cmath>
 #include <filesystem>
 #include <iostream>
@@ -109,15 +110,25 @@ int monte_carlo(Study& s) {
   for (const auto& n : names) csv += fmt::format(",{0},{0}:lo,{0}:hi", n);
   csv += "\n";
   json cases = json::array();
+  RunContext* run = s.cli.run;
+  Progress* progress = run ? run->progress : nullptr;
+  if (progress) progress->stage("monte carlo");
+  double simulate_seconds = 0, solve_seconds = 0;
   for (std::size_t c = 0; c < s.opt.inputs.size(); ++c) {
     const std::string spec = s.opt.inputs[c];
     const auto signals = experiment_inputs(info, spec, s.cli.study_file);
     CaseStats stats;
     stats.input = spec;
+    auto started = std::chrono::steady_clock::now();
     stats.fisher = runtime::fisher_information(*s.built.model, inputs_of(signals, info.inputs.size()),
                                                truth_all, s.problem.t0, m, idx);
+    simulate_seconds += seconds_since(started);
     for (int seed = 1; seed <= s.opt.seeds; ++seed) {
+      if (progress)
+        progress->context(fmt::format("case {} of {}, {} of {} ({} failed)", c + 1, s.opt.inputs.size(), seed,
+                                      s.opt.seeds, stats.failures));
       std::mt19937_64 rng(static_cast<unsigned long>(seed));
+      started = std::chrono::steady_clock::now();
       runtime::EstimationProblem e;
       runtime::EstimationExperiment ex;
       ex.t0 = s.problem.t0;
@@ -125,13 +136,17 @@ int monte_carlo(Study& s) {
       ex.data = noisy_data(*s.built.model, inputs_of(signals, info.inputs.size()), truth_all,
                            s.problem.t0, m, rng);
       e.experiments.push_back(std::move(ex));
+      simulate_seconds += seconds_since(started);
       e.parameters = free;
       e.parameter_values = truth_all;
       e.collocation = collocation_options(s.opt);
       e.solver = solver_options(s);
-      e.solver.progress = nullptr;
+      e.solver.progress = solver_progress(run);
       e.confidence = s.opt.confidence;
+      started = std::chrono::steady_clock::now();
       const auto r = runtime::estimate_parameters(*s.built.model, e);
+      solve_seconds += seconds_since(started);
+      for (const auto& x : r.experiments) solve_seconds -= x.timings.resimulation, simulate_seconds += x.timings.resimulation;
       const bool ok = r.status == runtime::OptimizationStatus::success ||
                       r.status == runtime::OptimizationStatus::acceptable;
       if (!ok || r.confidence_interval.size() != names.size()) {
@@ -150,9 +165,15 @@ int monte_carlo(Study& s) {
       stats.covered.push_back(in);
     }
     const json cj = case_json(stats, names, truth);
-    std::cerr << fmt::format("morun: monte_carlo case {} ({}): {}\n", c + 1, spec, cj.dump());
+    const std::string line = fmt::format("morun: monte_carlo case {} ({}): {}", c + 1, spec, cj.dump());
+    if (progress)
+      progress->println(line);
+    else
+      std::cerr << line << "\n";
     cases.push_back(cj);
   }
+  if (progress) progress->end_stage();
+  if (run) run->timings.add("solve", solve_seconds), run->timings.add("simulate", simulate_seconds);
   runtime::write_file_atomic((fs::path(s.cli.output) / "monte_carlo.csv").string(),
                              [&](std::ostream& os) { os << csv; });
   json summary{{"model", info.name}, {"seeds", s.opt.seeds}, {"cases", cases}};

@@ -26,13 +26,6 @@ std::vector<std::string> split(const std::string& s, char sep) {
   return out;
 }
 
-/// A gnuplot single-quoted string: quotes doubled, nothing else special.
-std::string gp_string(const std::string& s) {
-  std::string out = "'";
-  for (char c : s) out += c == '\'' ? std::string("''") : std::string(1, c);
-  return out + "'";
-}
-
 json matrix_json(const Eigen::MatrixXd& m) {
   json rows = json::array();
   for (Eigen::Index i = 0; i < m.rows(); ++i) {
@@ -266,56 +259,6 @@ void print_estimates(std::ostream& os, const runtime::EstimationResult& r) {
   }
   for (const auto& w : r.warnings) os << "morun: warning: " << w << "\n";
   if (!r.message.empty()) os << "morun: " << r.message << "\n";
-}
-
-void plot_optimization(const std::string& dir, const runtime::ModelInfo& info,
-                       const runtime::OptimalControlProblem& problem,
-                       const runtime::OptimizationResult& result) {
-  (void)result;
-  const std::string script = (fs::path(dir) / "optimization.gp").string();
-  const std::string traj = gp_string((fs::path(dir) / "trajectories.csv").string());
-  const std::string resim = gp_string((fs::path(dir) / "resimulated.csv").string());
-  const std::size_t nx = info.num_base_states(), ns = info.states.size();
-  std::ofstream gp(script);
-  gp << "set datafile separator ','\nset terminal pngcairo noenhanced size 900," << 200 * nx + 100 << "\n";
-  gp << "set output " << gp_string((fs::path(dir) / "states.png").string()) << "\n";
-  gp << "set multiplot layout " << nx << ",1\nset key outside right\n";
-  for (std::size_t i = 0; i < nx; ++i) {
-    runtime::Bounds b{info.states[i].min, info.states[i].max};
-    if (auto it = problem.state_bounds.find(i); it != problem.state_bounds.end()) b = it->second;
-    gp << "plot " << traj << " using 1:" << i + 2 << " with lines lw 2 title columnhead, " << resim
-       << " using 1:" << i + 2 << " with lines dt 3 title 're-simulated'";
-    for (double v : {b.lo, b.hi})
-      if (std::isfinite(v)) gp << ", " << v << " with lines dt 2 lc 'gray' notitle";
-    gp << "\n";
-  }
-  gp << "unset multiplot\n";
-  gp << "set terminal pngcairo noenhanced size 900,300\nset output "
-     << gp_string((fs::path(dir) / "inputs.png").string()) << "\n";
-  gp << "plot ";
-  for (std::size_t k = 0; k < info.inputs.size(); ++k)
-    gp << (k ? ", " : "") << traj << " using 1:" << ns + k + 2 << " with steps lw 2 title columnhead";
-  gp << "\n";
-  gp.close();
-  run_gnuplot(script);
-}
-
-void plot_fit(const std::string& dir, const runtime::ModelInfo& info,
-              const runtime::EstimationProblem& e) {
-  const std::string script = (fs::path(dir) / "fit.gp").string();
-  const std::string fit = gp_string((fs::path(dir) / "fit.csv").string());
-  const std::size_t n = e.experiments.front().data.outputs.size();
-  std::ofstream gp(script);
-  gp << "set datafile separator ','\nset terminal pngcairo noenhanced size 900," << 280 * n + 50 << "\n";
-  gp << "set output " << gp_string((fs::path(dir) / "fit.png").string()) << "\n";
-  gp << "set multiplot layout " << n << ",1\nset key outside right\n";
-  for (std::size_t c = 0; c < n; ++c)
-    gp << "plot " << fit << " using 1:" << c + 3 + n << " with points pt 7 ps 0.3 title columnhead, "
-       << fit << " using 1:" << c + 3 << " with lines lw 2 title columnhead\n";
-  gp << "unset multiplot\n";
-  gp.close();
-  (void)info;
-  run_gnuplot(script);
 }
 
 }  // namespace mo::tools

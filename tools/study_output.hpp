@@ -63,14 +63,4 @@ void write_estimation_outputs(const std::string& dir, runtime::Model& model,
 /// Prints the estimates with their confidence intervals and warnings.
 void print_estimates(std::ostream& os, const runtime::EstimationResult& r);
 
-/// states.png (one panel per state: collocation, re-simulation, bounds dashed,
-/// final targets) and inputs.png (piecewise-constant controls).
-void plot_optimization(const std::string& dir, const runtime::ModelInfo& info,
-                       const runtime::OptimalControlProblem& problem,
-                       const runtime::OptimizationResult& result);
-
-/// fit.png: each measured output, data points and the fitted model.
-void plot_fit(const std::string& dir, const runtime::ModelInfo& info,
-              const runtime::EstimationProblem& e);
-
 }  // namespace mo::tools

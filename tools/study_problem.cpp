@@ -142,6 +142,8 @@ bool add_constraint(flat::Model& m, const ast::Equation& eq, std::size_t k, Prob
   }
   if (rel != ast::Op::Ge) c.hi = bound;
   if (rel != ast::Op::Le) c.lo = bound;
+  if (value->kind == ast::ExprKind::Ref && value->var >= 0)
+    c.variable = m.variables[static_cast<std::size_t>(value->var)].name;
   c.output = fmt::format("$constraint[{}]", k + 1);
   add_output(m, c.output, std::move(value), eq.range);
   out.constraints.push_back(c);

@@ -19,6 +19,7 @@ namespace mo::tools {
 /// A constraint lo ≤ output ≤ hi, on the whole horizon or at one time.
 struct ProblemConstraint {
   std::string output;         ///< name of the added output
+  std::string variable;       ///< the constrained variable if the expression is just its name
   std::optional<double> time; ///< point constraint time; nullopt: path constraint
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();

@@ -5,19 +5,19 @@
 // Outputs y = (x, phi) as y_x, y_phi. All states are 0 at t = 0 (fixed).
 
 model CartPendulumODE "Cart and pendulum, mass-matrix form, force input F"
-  parameter Real m1 = 2 "Equivalent cart mass (kg)";
-  parameter Real d1 = 15 "Equivalent linear cart friction (N.s/m)";
-  parameter Real m2 = 1 "Pendulum mass (kg)";
-  parameter Real d2 = 0.5 "Rotational friction of the pendulum (N.m.s/rad)";
-  parameter Real l = 0.5 "Pendulum length (m)";
-  parameter Real g = 9.81 "Gravity (m/s2)";
-  input Real F "Force on the cart (N)";
-  output Real y_x "Measured cart position (m)";
-  output Real y_phi "Measured pendulum angle (rad)";
-  Real x(start = 0, fixed = true) "Cart position (m)";
-  Real phi(start = 0, fixed = true) "Pendulum angle, 0 = hanging down (rad)";
-  Real v(start = 0, fixed = true) "Cart velocity (m/s)";
-  Real w(start = 0, fixed = true) "Pendulum angular velocity (rad/s)";
+  parameter Real m1(unit = "kg") = 2 "Equivalent cart mass (kg)";
+  parameter Real d1(unit = "N.s/m") = 15 "Equivalent linear cart friction (N.s/m)";
+  parameter Real m2(unit = "kg") = 1 "Pendulum mass (kg)";
+  parameter Real d2(unit = "N.m.s/rad") = 0.5 "Rotational friction of the pendulum (N.m.s/rad)";
+  parameter Real l(unit = "m") = 0.5 "Pendulum length (m)";
+  parameter Real g(unit = "m/s2") = 9.81 "Gravity (m/s2)";
+  input Real F(unit = "N") "Force on the cart (N)";
+  output Real y_x(unit = "m") "Measured cart position (m)";
+  output Real y_phi(unit = "rad") "Measured pendulum angle (rad)";
+  Real x(unit = "m", start = 0, fixed = true) "Cart position (m)";
+  Real phi(unit = "rad", start = 0, fixed = true) "Pendulum angle, 0 = hanging down (rad)";
+  Real v(unit = "m/s", start = 0, fixed = true) "Cart velocity (m/s)";
+  Real w(unit = "rad/s", start = 0, fixed = true) "Pendulum angular velocity (rad/s)";
 equation
   der(x) = v;
   der(phi) = w;
@@ -31,21 +31,21 @@ end CartPendulumODE;
 // Written out in full (not extends) so that F is an ordinary variable here
 // and the flat names (x, phi, v, w) are the same as in CartPendulumODE.
 model CartPendulumSine "Cart and pendulum driven by F = 3*sin(2*pi*1*time)"
-  parameter Real m1 = 2 "Equivalent cart mass (kg)";
-  parameter Real d1 = 15 "Equivalent linear cart friction (N.s/m)";
-  parameter Real m2 = 1 "Pendulum mass (kg)";
-  parameter Real d2 = 0.5 "Rotational friction of the pendulum (N.m.s/rad)";
-  parameter Real l = 0.5 "Pendulum length (m)";
-  parameter Real g = 9.81 "Gravity (m/s2)";
-  parameter Real A = 3 "Force amplitude (N)";
-  parameter Real f = 1 "Force frequency (Hz)";
-  Real F "Force on the cart (N)";
-  output Real y_x "Measured cart position (m)";
-  output Real y_phi "Measured pendulum angle (rad)";
-  Real x(start = 0, fixed = true) "Cart position (m)";
-  Real phi(start = 0, fixed = true) "Pendulum angle, 0 = hanging down (rad)";
-  Real v(start = 0, fixed = true) "Cart velocity (m/s)";
-  Real w(start = 0, fixed = true) "Pendulum angular velocity (rad/s)";
+  parameter Real m1(unit = "kg") = 2 "Equivalent cart mass (kg)";
+  parameter Real d1(unit = "N.s/m") = 15 "Equivalent linear cart friction (N.s/m)";
+  parameter Real m2(unit = "kg") = 1 "Pendulum mass (kg)";
+  parameter Real d2(unit = "N.m.s/rad") = 0.5 "Rotational friction of the pendulum (N.m.s/rad)";
+  parameter Real l(unit = "m") = 0.5 "Pendulum length (m)";
+  parameter Real g(unit = "m/s2") = 9.81 "Gravity (m/s2)";
+  parameter Real A(unit = "N") = 3 "Force amplitude (N)";
+  parameter Real f(unit = "Hz") = 1 "Force frequency (Hz)";
+  Real F(unit = "N") "Force on the cart (N)";
+  output Real y_x(unit = "m") "Measured cart position (m)";
+  output Real y_phi(unit = "rad") "Measured pendulum angle (rad)";
+  Real x(unit = "m", start = 0, fixed = true) "Cart position (m)";
+  Real phi(unit = "rad", start = 0, fixed = true) "Pendulum angle, 0 = hanging down (rad)";
+  Real v(unit = "m/s", start = 0, fixed = true) "Cart velocity (m/s)";
+  Real w(unit = "rad/s", start = 0, fixed = true) "Pendulum angular velocity (rad/s)";
 equation
   F = A*sin(2*3.141592653589793*f*time);
   der(x) = v;

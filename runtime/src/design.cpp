@@ -152,6 +152,9 @@ InputDesignResult design_input(const Model& model, const InputDesignProblem& pro
     InputDesignResult best;
     std::vector<double> reached;
     for (const auto& start : problem.starts) {
+      if (problem.on_start)
+        problem.on_start(reached.size(), problem.starts.size(),
+                         best.optimization.ok() ? best.information_collocation : nan);
       InputDesignProblem one = problem;
       one.starts.clear();
       one.ocp.controls[0].initial_guess = start;

@@ -16,6 +16,8 @@
 // the criterion is a function of the trajectory and Ipopt's L-BFGS is used.
 #pragma once
 
+#include <functional>
+
 #include "mo/runtime/optimize.hpp"
 
 #include <Eigen/Dense>
@@ -51,6 +53,9 @@ struct InputDesignProblem {
   /// Initial guesses of the first control to try in turn (several local optima
   /// exist); empty means the problem's own guess only. The best result is kept.
   std::vector<std::shared_ptr<const InputSignal>> starts;
+  /// Called before each of several starts with (k, number of starts, best
+  /// information so far or NaN), k from 0; for progress reports. May be empty.
+  std::function<void(std::size_t, std::size_t, double)> on_start;
 };
 
 /// The designed input with its Fisher information, in collocation and replayed.
