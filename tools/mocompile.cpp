@@ -34,8 +34,6 @@ struct Options {
   std::size_t cpp_files = 0;               // --emit cpp: exact number of part files (0: as needed)
 };
 
-using mo::tools::library_files;
-
 /// Lowers, printing the stage trace for --emit trace, and appends the
 /// requested sensitivities; nullopt after printing the errors, with `status`
 /// set to 1 (errors in the model) or 2 (an unknown --sensitivities name).
@@ -77,10 +75,7 @@ int run(const Options &opt) {
   SourceManager sources;
   DiagnosticEngine diags(sources, opt.max_errors);
   Library lib;
-  for (const auto &arg : opt.libs)
-    for (const auto &file : library_files(arg))
-      if (auto sd = parse_file(file, sources, diags))
-        lib.add(std::move(sd));
+  mo::tools::load_libraries(lib, opt.libs, opt.input, sources, diags);
   auto main_file = parse_file(opt.input, sources, diags);
   if (!main_file || diags.has_errors()) {
     diags.print(std::cerr);

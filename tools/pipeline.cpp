@@ -2,6 +2,7 @@
 #include "pipeline.hpp"
 
 #include <algorithm>
+#include <cstdlib>
 #include <filesystem>
 #include <iostream>
 
@@ -34,14 +35,41 @@ std::vector<std::string> library_files(const std::string& arg) {
   return files;
 }
 
+void load_libraries(frontend::Library& lib, const std::vector<std::string>& libs,
+                    const std::string& main_file, frontend::SourceManager& sources,
+                    frontend::DiagnosticEngine& diags) {
+  lib.enable_loading(sources, diags);
+  for (const auto& arg : libs) {
+    std::error_code ec;
+    if (fs::is_directory(arg, ec) && fs::is_regular_file(fs::path(arg) / "package.mo", ec)) {
+      lib.add_package_directory(arg);  // parse errors are in diags
+      continue;
+    }
+    for (const auto& file : library_files(arg))
+      if (auto sd = frontend::parse_file(file, sources, diags)) lib.add(std::move(sd));
+  }
+  const fs::path dir = fs::path(main_file).parent_path();
+  lib.add_search_root(dir.empty() ? std::string(".") : dir.string());
+  if (const char* path = std::getenv("MODELICAPATH")) {
+    std::string entry;
+    for (const char* c = path;; ++c) {
+      if (*c == ':' || *c == ';' || *c == '\0') {
+        if (!entry.empty()) lib.add_search_root(entry);
+        entry.clear();
+        if (*c == '\0') break;
+      } else {
+        entry += *c;
+      }
+    }
+  }
+}
+
 std::unique_ptr<frontend::flat::Model> load_flat_model(const ModelSource& source,
                                                        frontend::SourceManager& sources,
                                                        frontend::DiagnosticEngine& diags) {
   using namespace mo::frontend;
   Library lib;
-  for (const auto& arg : source.libs)
-    for (const auto& file : library_files(arg))
-      if (auto sd = parse_file(file, sources, diags)) lib.add(std::move(sd));
+  load_libraries(lib, source.libs, source.file, sources, diags);
   auto main_file = parse_file(source.file, sources, diags);
   if (!main_file || diags.has_errors()) return nullptr;
   std::string class_name = source.class_name;

@@ -11,6 +11,7 @@
 
 #include "mo/frontend/diagnostics.hpp"
 #include "mo/frontend/flat.hpp"
+#include "mo/frontend/flatten.hpp"
 #include "mo/frontend/source.hpp"
 #include "mo/symbolic/ode.hpp"
 
@@ -19,6 +20,15 @@ namespace mo::tools {
 /// The .mo files of a library argument: the file itself, or every .mo file
 /// under a directory (package.mo files first, so `within` packages exist).
 std::vector<std::string> library_files(const std::string& arg);
+
+/// Prepares `lib` for compiling `main_file`: loads each -L argument (a file;
+/// a package directory with package.mo, whose classes are parsed when lookup
+/// reaches them; or a directory whose .mo files are all parsed), then adds the
+/// lookup roots for classes found nowhere else: the directory of `main_file`,
+/// then each entry of the environment variable MODELICAPATH (':' or ';').
+void load_libraries(frontend::Library& lib, const std::vector<std::string>& libs,
+                    const std::string& main_file, frontend::SourceManager& sources,
+                    frontend::DiagnosticEngine& diags);
 
 /// What to load and flatten.
 struct ModelSource {

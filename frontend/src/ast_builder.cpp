@@ -133,7 +133,10 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
       auto type = t->getSymbol()->getType();
       if (type == P::PUBLIC) is_protected = false;
       if (type == P::PROTECTED) is_protected = true;
-      if (type == P::EXTERNAL) cls.is_external = true;
+      if (type == P::EXTERNAL) {
+        cls.is_external = true;
+        external_clause(ctx, cls);
+      }
     } else if (auto *el = dynamic_cast<P::Element_listContext *>(child)) {
       element_list(el, cls, is_protected);
       for (auto *an : el->annotation())
@@ -150,6 +153,8 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
       if (!cls.has_algorithm)
         cls.algorithm_range = range(alg->ALGORITHM());
       cls.has_algorithm = true;
+      for (auto &st : statements(alg->statement()))
+        cls.algorithm.push_back(std::move(st));
     } else if (auto *con = dynamic_cast<P::Constraint_sectionContext *>(child)) {
       for (auto *c : con->constraint())
         cls.constraints.push_back(constraint(c));

@@ -48,6 +48,10 @@ private:
 
   ast::Equation equation(P::EquationContext *ctx);
   ast::Equation constraint(P::ConstraintContext *ctx);
+  // statements (ast_builder_statements.cpp)
+  ast::Statement statement(P::StatementContext *ctx);
+  std::vector<ast::Statement> statements(const std::vector<P::StatementContext *> &list);
+  void external_clause(P::CompositionContext *ctx, ast::ClassDef &cls);
   std::vector<ast::ForIndex> for_indices(P::For_indicesContext *ctx);
 
   ast::ExprPtr expression(P::ExpressionContext *ctx);

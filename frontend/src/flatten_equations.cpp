@@ -91,9 +91,11 @@ void Flattener::flatten_bindings() {
       if (a == "stateSelect") {
         ExprPtr e = binding_expr(p.mod);
         static const char *const kLevels[] = {"never", "avoid", "default", "prefer", "always"};
-        if (e->kind != ExprKind::Integer || e->number < 1 || e->number > 5)
-          fail(DiagId::TypeMismatch, p.mod.binding->range, "stateSelect must be a StateSelect literal");
-        model_->variables[p.var].attr.state_select = kLevels[static_cast<int>(e->number) - 1];
+        // A literal, or a parameter of type StateSelect (MSL's `stateSelect = stateSelect`).
+        const double level = is_constant(*e) ? eval(*e, p.mod.binding->range) : 0;
+        if (level < 1 || level > 5 || level != static_cast<int>(level))
+          fail(DiagId::TypeMismatch, p.mod.binding->range, "stateSelect must be a StateSelect value");
+        model_->variables[p.var].attr.state_select = kLevels[static_cast<int>(level) - 1];
         continue;
       }
       ExprPtr e = binding_expr(p.mod);

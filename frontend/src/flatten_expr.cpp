@@ -3,6 +3,7 @@
 #include "flattener.hpp"
 #include "mo/frontend/printer.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
@@ -164,6 +165,26 @@ static const ast::Component *find_component(Flattener &f, ClassNode *cls, const 
   return nullptr;
 }
 
+const ast::Component *Flattener::imported_constant(ClassNode *cls, const std::string &name, ClassNode *&owner) {
+  if (!cls->def)
+    return nullptr;
+  for (const auto &imp : cls->def->imports) {
+    std::vector<std::string> pkg_path = imp.path;
+    if (imp.wildcard || (!imp.names.empty() && std::count(imp.names.begin(), imp.names.end(), name))) {
+      // `import P.*;`, `import P.{name, ...};`: a constant of P
+    } else if (!imp.path.empty() && (imp.alias.empty() ? imp.path.back() == name : imp.alias == name)) {
+      pkg_path.pop_back(); // `import P.name;`, `import name = P.c;`
+    } else {
+      continue;
+    }
+    const std::string member = imp.alias.empty() || imp.wildcard ? name : imp.path.back();
+    ClassNode *pkg = pkg_path.empty() ? &lib_.root : lookup_class(&lib_.root, pkg_path, true, imp.range, false);
+    if (const ast::Component *c = pkg ? find_component(*this, pkg, member, owner) : nullptr)
+      return c;
+  }
+  return nullptr;
+}
+
 bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out) {
   for (const auto &p : ref.parts)
     if (!p.subscripts.empty())
@@ -182,7 +203,10 @@ bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, So
   if (n == 1) {
     for (ClassNode *c = s.cls; c; c = c->parent) {
       ClassNode *owner = nullptr;
-      if (const ast::Component *comp = find_component(*this, c, ref.parts[0].name, owner)) {
+      const ast::Component *comp = find_component(*this, c, ref.parts[0].name, owner);
+      if (!comp)
+        comp = imported_constant(c, ref.parts[0].name, owner);
+      if (comp) {
         value_of(owner, *comp);
         return true;
       }
@@ -200,6 +224,10 @@ bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, So
         out = Tensor::scalar(literal(i + 1, where, true));
         return true;
       }
+  }
+  if (path.size() == 1 && path[0] == "AssertionLevel" && (last == "error" || last == "warning")) {
+    out = Tensor::scalar(literal(last == "error" ? 1 : 2, where, true));
+    return true;
   }
   ClassNode *cls = lookup_class(s.cls ? s.cls : &lib_.root, path, ref.global, where, false);
   if (!cls || !cls->def)
@@ -315,6 +343,11 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
         return Tensor::scalar(literal(*v, e.range, true));
     fail(DiagId::BadSubscript, e.range, "'end' is only allowed inside a subscript");
   case ExprKind::Ref: {
+    if (s.locals && !(s.env && e.ref.is_simple() && s.env->find(e.ref.parts[0].name))) {
+      Tensor t; // an input, output or local of a function being inlined
+      if (local_value(e.ref, s, e.range, t))
+        return t;
+    }
     if (e.ref.is_simple()) {
       const std::string &n = e.ref.parts[0].name;
       if (s.env)
@@ -461,7 +494,9 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
       want_args(2, 2);
       return arg(0);
     }
-    if (!e.named.empty())
+    if (name == "String")
+      return string_call(e, s);
+    if (!e.named.empty() && !lookup_function(e, s))
       fail(DiagId::Unsupported, e.range, "named arguments are only supported for homotopy()");
     if (const BuiltinInfo *b = find_builtin(name)) {
       want_args(b->min_args, b->max_args);
@@ -628,17 +663,8 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
       return t;
     }
   }
-  if (s.cls) {
-    if (ClassNode *fn = lookup_class(s.cls, [&] {
-          std::vector<std::string> p;
-          for (const auto &part : e.ref.parts) p.push_back(part.name);
-          return p;
-        }(), e.ref.global, e.range, false)) {
-      if (fn->def && fn->def->restriction == ast::Restriction::Function)
-        fail(DiagId::Unsupported, e.range,
-             "calls to the user-defined function '" + name + "' are not supported yet");
-    }
-  }
+  if (ClassNode *fn = lookup_function(e, s))
+    return std::move(call_function(fn, e, s)[0]);
   fail(DiagId::UnknownFunction, e.range, "unknown function '" + name + "'");
 }
 

@@ -3,6 +3,7 @@
 #include "mo/frontend/printer.hpp"
 
 #include <algorithm>
+#include <optional>
 
 namespace mo::frontend::detail {
 
@@ -126,6 +127,15 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
     diags_.report(DiagId::Unsupported, def.algorithm_range,
                   "algorithm sections are not supported (write equations instead)");
   for (auto &[ext, base] : bases(cls)) {
+    // A class inherited along two paths is instantiated once: its elements
+    // are identical duplicates, which Modelica merges (7.3).
+    if (!inherited_.insert({&inst, base}).second) {
+      if (!ext->mod.empty())
+        diags_.report(DiagId::DuplicateDeclaration, ext->range,
+                      "'" + ext->base.str() + "' is inherited again with modifiers; only identical "
+                      "duplicates can be merged");
+      continue;
+    }
     if (!base->def) {
       diags_.report(DiagId::NotAClass, ext->base.range, "'" + ext->base.str() + "' is a package path, not a class");
       continue;
@@ -210,9 +220,20 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
   inst.is_connector = rt.is_connector;
   if (comp.connection == ast::Connection::Stream)
     fail(DiagId::Unsupported, comp.range, "stream connectors are not supported");
-  for (const auto &d : comp.dims) {
-    if (d->kind == ast::ExprKind::Colon)
-      fail(DiagId::Unsupported, d->range, "arrays of unknown size ':' are not supported");
+  std::optional<Tensor> bound; // the binding, when ':' sizes come from it
+  for (std::size_t i = 0; i < comp.dims.size(); ++i) {
+    const auto &d = comp.dims[i];
+    if (d->kind == ast::ExprKind::Colon) {
+      if (!full.binding)
+        fail(DiagId::Unsupported, d->range, "an array of unknown size ':' needs a binding to take its size from");
+      if (!bound)
+        bound = expr(*full.binding, Scope{full.scope, full.lexical, nullptr});
+      if (i >= bound->dims.size())
+        fail(DiagId::TypeMismatch, full.binding->range,
+             "the binding has fewer dimensions than '" + comp.name + "' is declared with");
+      inst.dims.push_back(bound->dims[i]);
+      continue;
+    }
     long long n = dimension_size(*d, here);
     if (n < 0 || n > 10'000'000)
       fail(DiagId::BadSubscript, d->range, "array size " + std::to_string(n) + " is out of range");

@@ -58,6 +58,20 @@ static bool builtin_type(const std::string &n, flat::BaseType &t) {
   return true;
 }
 
+/// Where the base of `ext` in `cls` is looked up: the enclosing scope, or
+/// `cls` itself for a class declared in it (not one it inherits).
+static ClassNode *extends_scope(ClassNode *cls, const ast::Extends &ext, ClassNode *root) {
+  if (!ext.base.global && !ext.base.parts.empty())
+    if (auto it = cls->children.find(ext.base.parts[0]); it != cls->children.end() && it->second->def)
+      return cls;
+  return cls->parent ? cls->parent : root;
+}
+
+/// StateSelect and AssertionLevel: enumerations every Modelica tool predefines.
+static bool predefined_enumeration(const std::string &n) {
+  return n == "StateSelect" || n == "AssertionLevel";
+}
+
 std::vector<std::pair<const ast::Extends *, ClassNode *>> Flattener::bases(ClassNode *cls, bool report) {
   std::vector<std::pair<const ast::Extends *, ClassNode *>> out;
   if (!cls || !cls->def)
@@ -65,7 +79,7 @@ std::vector<std::pair<const ast::Extends *, ClassNode *>> Flattener::bases(Class
   for (const auto &ext : cls->def->extends) {
     // Base names are looked up in the enclosing scope of the class: a class
     // cannot extend one of its own (inherited) members.
-    ClassNode *base = lookup_class(cls->parent ? cls->parent : &lib_.root, ext.base.parts,
+    ClassNode *base = lookup_class(extends_scope(cls, ext, &lib_.root), ext.base.parts,
                                    ext.base.global, ext.base.range, false);
     if (!base) {
       flat::BaseType t;
@@ -87,12 +101,14 @@ ClassNode *Flattener::find_member_class(ClassNode *cls, const std::string &name,
   auto it = cls->children.find(name);
   if (it != cls->children.end() && it->second->def)
     return it->second.get();
+  if (ClassNode *loaded = lib_.load_member(*cls, name)) // Modelica's lookup in the file system
+    return loaded;
   if (it != cls->children.end())
     return it->second.get(); // an implied package from `within`
   if (depth > 32 || !cls->def)
     return nullptr;
   for (const auto &ext : cls->def->extends) {
-    ClassNode *base = lookup_class(cls->parent ? cls->parent : &lib_.root, ext.base.parts,
+    ClassNode *base = lookup_class(extends_scope(cls, ext, &lib_.root), ext.base.parts,
                                    ext.base.global, ext.base.range, false);
     if (base && base != cls)
       if (ClassNode *found = find_member_class(base, name, depth + 1))
@@ -153,6 +169,12 @@ bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, Resolv
     out.builtin = bt;
     return true;
   }
+  if (!cls && type.parts.size() == 1 && predefined_enumeration(type.parts[0])) {
+    out.is_builtin = true;
+    out.builtin = flat::BaseType::Integer;
+    out.is_enumeration = true;
+    return true;
+  }
   if (!cls) {
     diags_.report(DiagId::UnknownClass, type.range, "unknown class '" + type.str() + "'");
     return false;
@@ -197,10 +219,15 @@ bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, Resolv
     return true;
   }
   // `type T extends Real(...)`-style long types: a type class whose only
-  // content is `extends <builtin>`.
-  if (cls->def && cls->def->restriction == ast::Restriction::Type && cls->def->components.empty()) {
+  // content is `extends <builtin>`; likewise `connector C extends Real; end C;`.
+  const bool long_type = cls->def && cls->def->components.empty() &&
+                         (cls->def->restriction == ast::Restriction::Type ||
+                          cls->def->restriction == ast::Restriction::Connector);
+  if (long_type) {
     for (const auto &ext : cls->def->extends)
       if (ext.base.parts.size() == 1 && builtin_type(ext.base.parts[0], bt)) {
+        if (cls->def->restriction == ast::Restriction::Connector)
+          out.is_connector = true;
         Modifier m = make_modifier(ext.mod, nullptr, cls);
         merge_into(m, out.mod);
         out.mod = std::move(m);

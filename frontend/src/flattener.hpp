@@ -12,6 +12,7 @@
 
 #include <map>
 #include <memory>
+#include <set>
 #include <unordered_map>
 
 namespace mo::frontend {
@@ -31,6 +32,18 @@ struct Library::Impl {
   std::vector<std::string> order;
   std::unordered_map<const ast::ClassDef *, ClassNode *> node_of;
   void insert(ClassNode &parent, const ast::ClassDef &def);
+
+  // Lazy loading by Modelica's lookup rules (library_loader.cpp).
+  SourceManager *sources = nullptr;
+  DiagnosticEngine *diags = nullptr;
+  std::vector<std::string> roots;                        ///< MODELICAPATH-like roots
+  std::unordered_map<const ClassNode *, std::string> directory_of; ///< directory packages
+  std::set<std::pair<const ClassNode *, std::string>> tried; ///< loads attempted
+  /// Loads class `name` of `parent` from the file system when `parent` is the
+  /// root (search roots) or a directory package; null when there is none.
+  ClassNode *load_member(ClassNode &parent, const std::string &name);
+  /// Parses `file` and inserts its classes into `parent`; false on errors.
+  bool load_file(ClassNode &parent, const std::string &file);
 };
 
 namespace detail {
@@ -111,6 +124,10 @@ struct LoopEnv {
   }
 };
 
+/// The inputs, outputs and locals of a function being inlined, by name;
+/// an element not assigned yet is null (flatten_functions.cpp).
+using FunctionLocals = std::map<std::string, Tensor>;
+
 /// Where an expression is flattened: the instance whose members are in
 /// scope, the class for lexical lookup, and loop variables.
 struct Scope {
@@ -119,6 +136,7 @@ struct Scope {
   const LoopEnv *env = nullptr;
   bool in_optimization = false;
   bool in_when = false;
+  const FunctionLocals *locals = nullptr; ///< inside a function body being inlined
 };
 
 /// Thrown (and caught at the statement level) once a diagnostic has been
@@ -200,6 +218,21 @@ public:
   /// when `call` is one of them; reports bad arguments.
   bool array_function(const ast::Expr &call, const Scope &s, Tensor &out);
 
+  // -- functions (flatten_functions.cpp)
+  /// The function class a call names, or null when it names none.
+  ClassNode *lookup_function(const ast::Expr &call, const Scope &s);
+  /// A call of user function `fn` inlined: its outputs (at most `wanted`) as
+  /// expressions of the arguments; `external "builtin"` maps to the built-in.
+  /// Reports what cannot be inlined and throws Reported.
+  std::vector<Tensor> call_function(ClassNode *fn, const ast::Expr &call, const Scope &s,
+                                    std::size_t wanted = 1);
+  /// A reference to a local of an inlined function, or false.
+  bool local_value(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
+  /// `String(x, ...)`: kept as a call (assert messages).
+  Tensor string_call(const ast::Expr &call, const Scope &s);
+  unsigned function_depth_ = 0;
+  std::set<std::pair<Instance *, ClassNode *>> inherited_; ///< bases instantiated per instance
+
   // -- equations and connections (flatten_equations.cpp, flatten_connect.cpp)
   void flatten_equations(Instance &inst);
   void equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
@@ -220,6 +253,8 @@ public:
   /// subscripts select several); null when the first name is no member.
   bool resolve_instances(const ast::ComponentRef &ref, const Scope &s, SourceRange where,
                          std::vector<int> &dims, std::vector<Instance *> &out);
+  /// The constant `name` that an import clause of `cls` brings in, or null.
+  const ast::Component *imported_constant(ClassNode *cls, const std::string &name, ClassNode *&owner);
   /// A constant reached lexically (package constants, enumeration literals).
   bool lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
 

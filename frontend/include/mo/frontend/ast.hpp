@@ -192,6 +192,35 @@ struct Equation {
   std::string description;
 };
 
+/// Statements of algorithm sections (functions' bodies).
+struct Statement;
+struct StatementBranch {
+  ExprPtr condition; ///< null for `else`
+  std::vector<Statement> body;
+  SourceRange range;
+};
+
+enum class StatementKind : std::uint8_t {
+  Assign, ///< targets := value; several targets for `(a, , b) := f(...)`
+  Call,   ///< value is a Call used as a statement: assert(...), f(...)
+  Break,
+  Return,
+  If,     ///< branches
+  For,    ///< for indices loop body end for
+  While,  ///< while value loop body end while
+  When,   ///< branches (when / elsewhen)
+};
+
+struct Statement {
+  StatementKind kind = StatementKind::Assign;
+  SourceRange range;
+  std::vector<ExprPtr> targets; ///< Assign: Ref expressions; null for an omitted output
+  ExprPtr value;                ///< Assign: the right side; Call: the call; While: the condition
+  std::vector<ForIndex> indices;
+  std::vector<Statement> body;
+  std::vector<StatementBranch> branches;
+};
+
 enum class Restriction : std::uint8_t {
   Class, Model, Record, OperatorRecord, Block, Connector, ExpandableConnector, Type,
   Package, Function, Operator, Optimization,
@@ -232,6 +261,9 @@ struct ClassDef {
   bool has_algorithm = false;   ///< algorithms are parsed but not flattened
   SourceRange algorithm_range;
   bool is_external = false;     ///< `external` function
+  std::vector<Statement> algorithm; ///< the statements of every algorithm section, in order
+  std::string external_language;    ///< `external "builtin"`: "builtin" (unescaped)
+  std::string external_function;    ///< the called name in `external "C" y = f(u)`; may be empty
 };
 
 /// A parsed file: `within` prefix and its top-level classes.

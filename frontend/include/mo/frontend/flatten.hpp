@@ -34,6 +34,18 @@ public:
   /// The top-level class names, in the order they were added.
   std::vector<std::string> top_level_names() const;
 
+  /// Lets lookup load classes from the file system (Modelica 3.x 13.2.4):
+  /// files are parsed into `sources` when a lookup first reaches them, and
+  /// their errors go to `diags` (both must outlive the library).
+  void enable_loading(SourceManager &sources, DiagnosticEngine &diags);
+  /// Adds a root searched, in the order added, for a top-level class `Name`
+  /// not among the added files: `root/Name.mo`, then `root/Name/package.mo`.
+  void add_search_root(const std::string &directory);
+  /// Adds the package stored in `directory` (a `package.mo` beside one file
+  /// or folder per class); its classes are parsed when lookup reaches them.
+  /// False, with nothing added, when `directory/package.mo` cannot be parsed.
+  bool add_package_directory(const std::string &directory);
+
   struct Impl;
   Impl &impl() { return *impl_; }
 

@@ -1,0 +1,560 @@
+// Calls of user-defined functions, inlined into the caller's expressions.
+//
+// The function's algorithm is executed symbolically on the arguments'
+// flattened expressions: each assignment replaces the expression bound to
+// its target, an `if` whose condition is known picks its branch and one that
+// depends on variables merges both branches into if-expressions, a `for` over
+// a constant range is unrolled and a `while` runs while its condition
+// evaluates to a constant. What cannot be turned into expressions (`when`,
+// `return`/`break` under a condition that varies, record or external "C"
+// functions, a `while` whose condition varies) gets a diagnostic.
+// `external "builtin"` functions are the built-ins they name.
+#include "flattener.hpp"
+#include "mo/frontend/printer.hpp"
+
+#include <fmt/format.h>
+
+namespace mo::frontend::detail {
+
+using ast::Expr;
+using ast::ExprKind;
+using ast::ExprPtr;
+using ast::Statement;
+using ast::StatementKind;
+
+namespace {
+
+constexpr unsigned kMaxCallDepth = 64;
+constexpr long kMaxWhileIterations = 100'000;
+
+Tensor clone_tensor(const Tensor &t) {
+  Tensor out;
+  out.dims = t.dims;
+  for (const auto &e : t.elems)
+    out.elems.push_back(e ? e->clone() : nullptr);
+  return out;
+}
+
+FunctionLocals clone_locals(const FunctionLocals &values) {
+  FunctionLocals out;
+  for (const auto &[name, t] : values)
+    out.emplace(name, clone_tensor(t));
+  return out;
+}
+
+bool is_literal(const Expr &e) {
+  return e.kind == ExprKind::Real || e.kind == ExprKind::Integer || e.kind == ExprKind::Boolean;
+}
+
+/// True when `e` is built from literals only (no variable, no parameter, no
+/// operator on time such as pre or der): it can be folded without fixing the
+/// value of anything a user may change.
+bool literals_only(const Expr &e) {
+  std::vector<const Expr *> work{&e};
+  while (!work.empty()) {
+    const Expr *x = work.back();
+    work.pop_back();
+    switch (x->kind) {
+    case ExprKind::Real:
+    case ExprKind::Integer:
+    case ExprKind::Boolean:
+      break;
+    case ExprKind::Unary:
+    case ExprKind::Binary:
+    case ExprKind::If:
+      for (const auto &a : x->args)
+        work.push_back(a.get());
+      break;
+    case ExprKind::Call:
+    case ExprKind::Ref:
+    case ExprKind::String:
+    case ExprKind::Array:
+    case ExprKind::Matrix:
+    case ExprKind::Range:
+    case ExprKind::Tuple:
+    case ExprKind::Colon:
+    case ExprKind::End:
+      return false;
+    }
+  }
+  return true;
+}
+
+/// The elements and algorithms of a function, bases first.
+struct Signature {
+  std::vector<std::pair<const ast::Component *, ClassNode *>> inputs, outputs, locals;
+  std::vector<std::pair<const std::vector<Statement> *, ClassNode *>> algorithms;
+};
+
+void collect(Flattener &f, ClassNode *cls, Signature &sig, unsigned depth) {
+  if (!cls || !cls->def || depth > 32)
+    return;
+  for (auto &[ext, base] : f.bases(cls))
+    collect(f, base, sig, depth + 1);
+  for (const auto &c : cls->def->components) {
+    auto &list = c.causality == ast::Causality::Input    ? sig.inputs
+                 : c.causality == ast::Causality::Output ? sig.outputs
+                                                         : sig.locals;
+    list.emplace_back(&c, cls);
+  }
+  if (!cls->def->algorithm.empty())
+    sig.algorithms.emplace_back(&cls->def->algorithm, cls);
+}
+
+/// Row-major flat indices of the elements of `t` that `subs` select, in
+/// scope `s`; `out_dims` gets the dimensions of the selection (a scalar
+/// subscript drops its dimension).
+std::vector<std::size_t> selection(Flattener &f, const std::vector<ExprPtr> &subs, const Tensor &t,
+                                   const std::string &name, const Scope &s, SourceRange where,
+                                   std::vector<int> &out_dims) {
+  if (subs.size() != t.dims.size())
+    f.fail(DiagId::BadSubscript, where,
+           fmt::format("'{}' has {} dimension(s) but {} subscript(s) are given", name, t.dims.size(),
+                       subs.size()));
+  std::vector<std::vector<int>> p(subs.size());
+  for (std::size_t i = 0; i < subs.size(); ++i) {
+    if (subs[i]->kind == ExprKind::Colon) {
+      for (int k = 1; k <= t.dims[i]; ++k)
+        p[i].push_back(k);
+      out_dims.push_back(t.dims[i]);
+      continue;
+    }
+    LoopEnv env = s.env ? *s.env : LoopEnv{};
+    env.values.emplace_back("end", t.dims[i]);
+    Scope sub = s;
+    sub.env = &env;
+    Tensor picked = f.expr(*subs[i], sub);
+    for (auto &e : picked.elems) {
+      double v = f.eval(*e, subs[i]->range);
+      if (v != static_cast<int>(v) || v < 1 || v > t.dims[i])
+        f.fail(DiagId::BadSubscript, subs[i]->range,
+               fmt::format("subscript {} is out of bounds 1..{} of '{}'", v, t.dims[i], name));
+      p[i].push_back(static_cast<int>(v));
+    }
+    if (!picked.is_scalar())
+      out_dims.push_back(static_cast<int>(picked.elems.size()));
+  }
+  std::vector<std::size_t> out;
+  for (const auto &v : p)
+    if (v.empty())
+      return out;
+  std::vector<std::size_t> pos(p.size(), 0);
+  while (true) {
+    std::size_t flat = 0;
+    for (std::size_t i = 0; i < p.size(); ++i)
+      flat = flat * static_cast<std::size_t>(t.dims[i]) + static_cast<std::size_t>(p[i][pos[i]] - 1);
+    out.push_back(flat);
+    std::size_t i = p.size();
+    while (i-- > 0) {
+      if (++pos[i] < p[i].size())
+        break;
+      pos[i] = 0;
+    }
+    if (i == static_cast<std::size_t>(-1))
+      break;
+  }
+  return out;
+}
+
+/// Executes one function's algorithm on symbolic values.
+class Inliner {
+public:
+  Inliner(Flattener &f, ClassNode *fn) : f_(f), fn_(fn) {}
+
+  FunctionLocals values;
+
+  Scope scope(ClassNode *cls) {
+    Scope s;
+    s.cls = cls;
+    s.env = &env_;
+    s.locals = &values;
+    return s;
+  }
+
+  void run(const std::vector<Statement> &body, ClassNode *cls) {
+    cls_ = cls;
+    exec(body);
+  }
+
+private:
+  Flattener &f_;
+  ClassNode *fn_;
+  ClassNode *cls_ = nullptr;
+  LoopEnv env_;
+  bool returned_ = false, broke_ = false;
+
+  [[noreturn]] void unsupported(SourceRange r, const std::string &what) {
+    f_.fail(DiagId::Unsupported, r,
+            "cannot inline function '" + fn_->path() + "': " + what);
+  }
+
+  void exec(const std::vector<Statement> &body) {
+    for (const Statement &st : body) {
+      if (returned_ || broke_)
+        return;
+      exec_one(st);
+    }
+  }
+
+  void exec_one(const Statement &st) {
+    Scope s = scope(cls_);
+    switch (st.kind) {
+    case StatementKind::Assign:
+      if (st.targets.size() == 1 && st.value->kind != ExprKind::Call) {
+        assign(*st.targets[0], f_.expr(*st.value, s));
+      } else if (st.targets.size() == 1 && !f_.lookup_function(*st.value, s)) {
+        assign(*st.targets[0], f_.expr(*st.value, s)); // a built-in call
+      } else {
+        ClassNode *callee = f_.lookup_function(*st.value, s);
+        if (!callee)
+          f_.fail(DiagId::UnknownFunction, st.value->range,
+                  "unknown function '" + st.value->ref.str() + "'");
+        std::vector<Tensor> outs = f_.call_function(callee, *st.value, s, st.targets.size());
+        for (std::size_t i = 0; i < st.targets.size() && i < outs.size(); ++i)
+          if (st.targets[i])
+            assign(*st.targets[i], std::move(outs[i]));
+      }
+      return;
+    case StatementKind::Call: {
+      const std::string n = st.value->ref.str();
+      if (n == "assert" || n == "terminate")
+        return; // checks only; the flat model keeps the caller's asserts
+      unsupported(st.range, "the statement '" + n + "(...)' has effects other than its outputs");
+    }
+    case StatementKind::Break:
+      broke_ = true;
+      return;
+    case StatementKind::Return:
+      returned_ = true;
+      return;
+    case StatementKind::If:
+      exec_if(st.branches, 0);
+      return;
+    case StatementKind::For:
+      exec_for(st, 0);
+      return;
+    case StatementKind::While:
+      exec_while(st);
+      return;
+    case StatementKind::When:
+      unsupported(st.range, "'when' statements are not supported in functions");
+    }
+  }
+
+  void exec_if(const std::vector<ast::StatementBranch> &branches, std::size_t i) {
+    if (i == branches.size())
+      return;
+    const auto &b = branches[i];
+    if (!b.condition) {
+      exec(b.body);
+      return;
+    }
+    ExprPtr c = f_.scalar_expr(*b.condition, scope(cls_));
+    if (!is_literal(*c) && literals_only(*c))
+      c = ast::make_bool(f_.eval(*c, b.condition->range) != 0, b.condition->range);
+    if (is_literal(*c)) {
+      if (c->number != 0)
+        exec(b.body);
+      else
+        exec_if(branches, i + 1);
+      return;
+    }
+    // The condition varies: run both ways, then merge into if-expressions.
+    FunctionLocals before = clone_locals(values);
+    exec(b.body);
+    if (returned_ || broke_)
+      unsupported(b.range, "'return' or 'break' under a condition that varies in time");
+    FunctionLocals then_values = std::move(values);
+    values = std::move(before);
+    exec_if(branches, i + 1);
+    if (returned_ || broke_)
+      unsupported(b.range, "'return' or 'break' under a condition that varies in time");
+    for (auto &[name, t] : values) {
+      Tensor &a = then_values.at(name);
+      if (a.dims != t.dims)
+        unsupported(b.range, "'" + name + "' gets arrays of different sizes in the branches of an if");
+      for (std::size_t k = 0; k < t.elems.size(); ++k) {
+        if (!a.elems[k])
+          continue;
+        if (!t.elems[k] || print_expr(*a.elems[k]) == print_expr(*t.elems[k])) {
+          t.elems[k] = std::move(a.elems[k]);
+          continue;
+        }
+        auto n = std::make_unique<Expr>(ExprKind::If, b.range);
+        n->args.push_back(c->clone());
+        n->args.push_back(std::move(a.elems[k]));
+        n->args.push_back(std::move(t.elems[k]));
+        t.elems[k] = std::move(n);
+      }
+    }
+  }
+
+  void exec_for(const Statement &st, std::size_t index) {
+    if (index == st.indices.size()) {
+      exec(st.body);
+      return;
+    }
+    const ast::ForIndex &fi = st.indices[index];
+    if (!fi.range)
+      unsupported(fi.loc, "a for-loop without a range");
+    std::vector<double> range = f_.eval_range(*fi.range, scope(cls_));
+    for (double v : range) {
+      env_.values.emplace_back(fi.name, v);
+      exec_for(st, index + 1);
+      env_.values.pop_back();
+      if (returned_)
+        return;
+      if (broke_) {
+        broke_ = false;
+        return;
+      }
+    }
+  }
+
+  void exec_while(const Statement &st) {
+    for (long n = 0;; ++n) {
+      if (n > kMaxWhileIterations)
+        unsupported(st.range, "the while-loop runs more than 100000 times");
+      ExprPtr c = f_.scalar_expr(*st.value, scope(cls_));
+      if (!is_literal(*c) && f_.is_constant(*c)) // parameters: their values now
+        c = ast::make_bool(f_.eval(*c, st.value->range) != 0, st.value->range);
+      if (!is_literal(*c))
+        unsupported(st.value->range, "a while-loop whose condition depends on variables");
+      if (c->number == 0)
+        return;
+      exec(st.body);
+      if (returned_)
+        return;
+      if (broke_) {
+        broke_ = false;
+        return;
+      }
+    }
+  }
+
+private:
+  void assign(const Expr &target, Tensor value) {
+    if (target.kind != ExprKind::Ref || target.ref.global || target.ref.parts.size() != 1)
+      unsupported(target.range, "only a local variable or an element of one can be assigned");
+    const ast::RefPart &part = target.ref.parts[0];
+    auto it = values.find(part.name);
+    if (it == values.end())
+      f_.fail(DiagId::UnknownComponent, target.range,
+              "'" + part.name + "' is not an output or local variable of function '" + fn_->path() + "'");
+    Tensor &slot = it->second;
+    if (part.subscripts.empty()) {
+      if (!slot.dims.empty() && !value.dims.empty() && slot.dims != value.dims)
+        f_.fail(DiagId::TypeMismatch, target.range,
+                "the sizes of '" + part.name + "' and of the assigned value differ");
+      slot = std::move(value);
+      return;
+    }
+    std::vector<int> dims;
+    std::vector<std::size_t> idx = selection(f_, part.subscripts, slot, part.name, scope(cls_), target.range, dims);
+    if (!value.is_scalar() && value.elems.size() != idx.size())
+      f_.fail(DiagId::TypeMismatch, target.range,
+              "the sizes of '" + target.ref.str() + "' and of the assigned value differ");
+    for (std::size_t k = 0; k < idx.size(); ++k)
+      slot.elems[idx[k]] = value.is_scalar() ? value.elems[0]->clone() : std::move(value.elems[k]);
+  }
+};
+
+} // namespace
+
+ClassNode *Flattener::lookup_function(const Expr &call, const Scope &s) {
+  if (call.kind != ExprKind::Call || call.ref.parts.empty())
+    return nullptr;
+  std::vector<std::string> path;
+  for (const auto &part : call.ref.parts) {
+    if (!part.subscripts.empty())
+      return nullptr;
+    path.push_back(part.name);
+  }
+  ClassNode *fn = lookup_class(s.cls ? s.cls : &lib_.root, path, call.ref.global, call.range, false);
+  return fn && fn->def && fn->def->restriction == ast::Restriction::Function ? fn : nullptr;
+}
+
+bool Flattener::local_value(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out) {
+  if (!s.locals || ref.global)
+    return false;
+  auto it = s.locals->find(ref.parts[0].name);
+  if (it == s.locals->end())
+    return false;
+  if (ref.parts.size() > 1)
+    fail(DiagId::Unsupported, where, "records in functions are not supported ('" + ref.str() + "')");
+  const Tensor &t = it->second;
+  std::vector<std::size_t> idx;
+  if (ref.parts[0].subscripts.empty()) {
+    out.dims = t.dims;
+    for (std::size_t k = 0; k < t.elems.size(); ++k)
+      idx.push_back(k);
+  } else {
+    idx = selection(*this, ref.parts[0].subscripts, t, ref.parts[0].name, s, where, out.dims);
+  }
+  for (std::size_t k : idx) {
+    if (!t.elems[k])
+      fail(DiagId::EvaluationError, where, "'" + ref.str() + "' is used before it is assigned");
+    out.elems.push_back(t.elems[k]->clone());
+  }
+  return true;
+}
+
+Tensor Flattener::string_call(const Expr &call, const Scope &s) {
+  if (call.args.size() != 1)
+    fail(DiagId::WrongArgumentCount, call.range,
+         fmt::format("String() takes 1 positional argument, {} given", call.args.size()));
+  std::vector<ExprPtr> args;
+  args.push_back(scalar_expr(*call.args[0], s));
+  // Formatting options (significantDigits, minimumLength, leftJustified)
+  // only shape the text of messages, which the flat model does not keep.
+  return Tensor::scalar(ast::make_call("String", std::move(args), call.range));
+}
+
+namespace {
+
+/// The argument expression for each input: positional, then named; null
+/// where the default applies.
+std::vector<const Expr *> match_arguments(Flattener &f, const Signature &sig, const Expr &call,
+                                          const std::string &fn_name) {
+  std::vector<const Expr *> out(sig.inputs.size(), nullptr);
+  if (call.args.size() > sig.inputs.size())
+    f.fail(DiagId::WrongArgumentCount, call.range,
+           fmt::format("{}() takes {} argument(s), {} given", fn_name, sig.inputs.size(), call.args.size()));
+  for (std::size_t i = 0; i < call.args.size(); ++i)
+    out[i] = call.args[i].get();
+  for (const auto &na : call.named) {
+    std::size_t i = 0;
+    while (i < sig.inputs.size() && sig.inputs[i].first->name != na.name)
+      ++i;
+    if (i == sig.inputs.size())
+      f.fail(DiagId::WrongArgumentCount, na.value->range,
+             "function '" + fn_name + "' has no input named '" + na.name + "'");
+    if (out[i])
+      f.fail(DiagId::WrongArgumentCount, na.value->range,
+             "input '" + na.name + "' of function '" + fn_name + "' is given twice");
+    out[i] = na.value.get();
+  }
+  return out;
+}
+
+} // namespace
+
+std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, const Scope &s,
+                                             std::size_t wanted) {
+  const ast::ClassDef &def = *fn->def;
+  const std::string fn_name = fn->path();
+  if (function_depth_ >= kMaxCallDepth)
+    fail(DiagId::Unsupported, call.range,
+         fmt::format("function calls nested deeper than {} (a recursive function?) cannot be inlined",
+                     kMaxCallDepth));
+  if (def.short_base)
+    fail(DiagId::Unsupported, call.range, "short function definitions ('" + fn_name + "') are not supported");
+  Signature sig;
+  collect(*this, fn, sig, 0);
+  std::vector<const Expr *> args = match_arguments(*this, sig, call, fn_name);
+  if (wanted > sig.outputs.size() || sig.outputs.empty())
+    fail(DiagId::WrongArgumentCount, call.range,
+         fmt::format("function '{}' has {} output(s); {} are used", fn_name, sig.outputs.size(),
+                     std::max<std::size_t>(wanted, 1)));
+
+  if (def.is_external) {
+    if (def.external_language != "builtin")
+      fail(DiagId::Unsupported, call.range,
+           "external function '" + fn_name + "' (language \"" + def.external_language +
+               "\") cannot be evaluated; only external \"builtin\" functions are supported");
+    auto builtin = std::make_unique<Expr>(ExprKind::Call, call.range);
+    builtin->ref.parts.push_back(ast::RefPart{def.external_function.empty() ? fn->name : def.external_function, {}});
+    for (std::size_t i = 0; i < args.size(); ++i) {
+      if (!args[i])
+        fail(DiagId::WrongArgumentCount, call.range,
+             "input '" + sig.inputs[i].first->name + "' of function '" + fn_name + "' is missing");
+      builtin->args.push_back(args[i]->clone());
+    }
+    ++function_depth_;
+    std::vector<Tensor> out;
+    try {
+      out.push_back(expr(*builtin, s));
+    } catch (...) {
+      --function_depth_;
+      throw;
+    }
+    --function_depth_;
+    return out;
+  }
+
+  Inliner in(*this, fn);
+  // Inputs: the caller's arguments, flattened in the caller's scope.
+  std::vector<bool> given(sig.inputs.size());
+  for (std::size_t i = 0; i < sig.inputs.size(); ++i)
+    if (args[i]) {
+      in.values[sig.inputs[i].first->name] = expr(*args[i], s);
+      given[i] = true;
+    }
+  ++function_depth_;
+  struct DepthGuard {
+    unsigned &d;
+    ~DepthGuard() { --d; }
+  } guard{function_depth_};
+  // Declared sizes, defaults and bindings, in declaration order.
+  auto declare = [&](const ast::Component &c, ClassNode *owner, bool is_input, bool has_value) {
+    Scope fs = in.scope(owner);
+    ResolvedType rt;
+    if (!resolve_type(owner, c.type, rt))
+      throw Reported{};
+    if (!rt.is_builtin)
+      fail(DiagId::Unsupported, c.range,
+           "cannot inline function '" + fn_name + "': '" + c.name + "' is a record or class instance");
+    std::vector<int> dims;
+    bool sized = true;
+    for (const auto &d : c.dims) {
+      if (d->kind == ExprKind::Colon) {
+        sized = false;
+        continue;
+      }
+      dims.push_back(static_cast<int>(eval_int(*d, fs)));
+    }
+    dims.insert(dims.end(), rt.dims.begin(), rt.dims.end());
+    if (has_value) {
+      const Tensor &t = in.values.at(c.name);
+      if (sized && t.dims != dims)
+        fail(DiagId::TypeMismatch, call.range,
+             "argument '" + c.name + "' of function '" + fn_name + "' has the wrong size");
+      return;
+    }
+    if (c.mod.binding) {
+      in.values[c.name] = expr(*c.mod.binding, fs);
+      return;
+    }
+    if (is_input)
+      fail(DiagId::WrongArgumentCount, call.range,
+           "input '" + c.name + "' of function '" + fn_name + "' is missing and has no default");
+    Tensor t;
+    t.dims = sized ? dims : std::vector<int>{};
+    std::size_t n = 1;
+    for (int d : t.dims)
+      n *= static_cast<std::size_t>(d);
+    t.elems.resize(n);
+    in.values[c.name] = std::move(t);
+  };
+  for (std::size_t i = 0; i < sig.inputs.size(); ++i)
+    declare(*sig.inputs[i].first, sig.inputs[i].second, true, given[i]);
+  for (const auto &[c, owner] : sig.outputs)
+    declare(*c, owner, false, false);
+  for (const auto &[c, owner] : sig.locals)
+    declare(*c, owner, false, false);
+  for (const auto &[body, owner] : sig.algorithms)
+    in.run(*body, owner);
+  std::vector<Tensor> out;
+  for (std::size_t i = 0; i < std::max<std::size_t>(wanted, 1); ++i) {
+    const std::string &name = sig.outputs[i].first->name;
+    Tensor &t = in.values.at(name);
+    for (const auto &e : t.elems)
+      if (!e)
+        fail(DiagId::EvaluationError, call.range,
+             "output '" + name + "' of function '" + fn_name + "' is not assigned");
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+} // namespace mo::frontend::detail

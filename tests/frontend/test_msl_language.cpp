@@ -1,0 +1,360 @@
+// The parts of Modelica the Modelica Standard Library leans on: user
+// functions inlined, external "builtin" functions, String(), predefined
+// enumerations, imports of constants, local and repeated base classes,
+// connectors extending Real. Each model here is a small case of its kind.
+#include "compile.hpp"
+
+#include <catch2/catch.hpp>
+
+#include <cstdlib>
+#include <filesystem>
+
+using namespace mo::test;
+
+namespace {
+
+std::string flat(const std::string &text, const std::string &cls = "") {
+  Compiled c = compile_text(text, cls);
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  return c.model->print();
+}
+
+double value(const std::string &text, const std::string &var) {
+  Compiled c = compile_text(text);
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const auto i = c.model->find(var);
+  REQUIRE(i >= 0);
+  REQUIRE(c.model->variables[i].value);
+  return *c.model->variables[i].value;
+}
+
+bool contains(const std::string &s, const std::string &part) { return s.find(part) != std::string::npos; }
+
+/// ../shared beside the checkout, or $MO_SHARED_DIR; empty when neither exists.
+std::string shared_dir() {
+  namespace fs = std::filesystem;
+  const fs::path beside = fs::path(MO_SOURCE_DIR) / ".." / "shared";
+  if (fs::is_directory(beside / "third_party"))
+    return beside.string();
+  if (const char *env = std::getenv("MO_SHARED_DIR"); env && fs::is_directory(env))
+    return env;
+  return "";
+}
+
+} // namespace
+
+TEST_CASE("import clauses inside a class bring constants and aliases", "[msl]") {
+  const char *src = R"(
+    package Consts
+      constant Real two = 2;
+      constant Real three = 3;
+    end Consts;
+    model Uses
+      import Consts.two;
+      import C = Consts;
+      import Consts.*;
+      parameter Real a = two;
+      parameter Real b = C.three;
+      parameter Real c = three;
+    end Uses;)";
+  CHECK(value(src, "a") == 2);
+  CHECK(value(src, "b") == 3);
+  CHECK(value(src, "c") == 3);
+}
+
+TEST_CASE("a class may extend a class declared inside it", "[msl]") {
+  std::string s = flat(R"(
+    model Outer
+      partial model Inner
+        Real v(start = 2, fixed = true);
+      end Inner;
+      extends Inner;
+    equation
+      der(v) = -2 * v;
+    end Outer;)");
+  CHECK(contains(s, "Real v(start = 2, fixed = true);"));
+}
+
+TEST_CASE("a base inherited along two paths is merged", "[msl]") {
+  std::string s = flat(R"(
+    package P
+      partial model Len
+        parameter Real len = 1;
+      equation
+        assert(len > 0, "len must be positive");
+      end Len;
+      model Mid
+        extends Len;
+      end Mid;
+      model Both
+        extends Mid;
+        extends Len;
+        Real y(start = 0, fixed = true);
+      equation
+        der(y) = len;
+      end Both;
+    end P;)", "P.Both");
+  CHECK(contains(s, "parameter Real len = 1;"));
+  // The base's equations appear once.
+  CHECK(s.find("assert(") == s.rfind("assert("));
+  // A second path with its own modifiers is not an identical duplicate.
+  Compiled c = compile_text(R"(
+    model Len
+      parameter Real len = 1;
+    end Len;
+    model Mid
+      extends Len;
+    end Mid;
+    model Both
+      extends Mid;
+      extends Len(len = 2);
+    end Both;)");
+  CHECK_FALSE(c.ok());
+  CHECK(contains(c.diagnostics, "'Len' is inherited again with modifiers"));
+}
+
+TEST_CASE("a connector extending Real is a Real connector", "[msl]") {
+  std::string s = flat(R"(
+    package Sig
+      connector Signal
+        extends Real;
+      end Signal;
+      connector In = input Signal;
+      connector Out = output Signal;
+      block Twice
+        In u;
+        Out y;
+      equation
+        y = 2 * u;
+      end Twice;
+      model Loop
+        Twice t;
+        Real z(start = 1, fixed = true);
+      equation
+        t.u = z;
+        der(z) = -t.y;
+      end Loop;
+    end Sig;)", "Sig.Loop");
+  CHECK(contains(s, "input Real `t.u`;"));
+  CHECK(contains(s, "output Real `t.y`;"));
+}
+
+TEST_CASE("StateSelect and AssertionLevel are predefined enumerations", "[msl]") {
+  const char *src = R"(
+    model Sel
+      parameter StateSelect s = StateSelect.avoid;
+      parameter AssertionLevel level = AssertionLevel.warning;
+      Real x(start = 1, fixed = true, stateSelect = s);
+    equation
+      der(x) = -x;
+    end Sel;)";
+  CHECK(value(src, "s") == 2);
+  CHECK(value(src, "level") == 2);
+}
+
+TEST_CASE("String() in an assert message", "[msl]") {
+  std::string s = flat(R"(
+    model Msg
+      Real x(start = 1, fixed = true);
+    equation
+      der(x) = -x;
+      assert(x > 0, "x is " + String(x) + ", not positive");
+    end Msg;)");
+  CHECK(contains(s, "String(x)"));
+}
+
+TEST_CASE("external builtin functions are the built-ins they name", "[msl][functions]") {
+  const char *src = R"(
+    package Lib
+      package Math
+        function asin
+          input Real u;
+          output Real y;
+        external "builtin" y = asin(u);
+        end asin;
+        function cosine
+          input Real u;
+          output Real y;
+        external "builtin";
+        end cosine;
+      end Math;
+      package Constants
+        final constant Real pi = 2 * Math.asin(1.0);
+      end Constants;
+    end Lib;
+    model Circle
+      parameter Real r = Lib.Constants.pi;
+      Real x;
+    equation
+      x = Lib.Math.asin(sin(time));
+    end Circle;)";
+  CHECK(value(src, "r") == Approx(3.14159265358979));
+  CHECK(contains(flat(src), "x = asin(sin(time));"));
+}
+
+TEST_CASE("functions with straight-line algorithms are inlined", "[msl][functions]") {
+  const char *src = R"(
+    function affine
+      input Real x;
+      input Real a = 2;
+      input Real b = a + 1;
+      output Real y;
+    protected
+      Real t;
+    algorithm
+      t := a * x;
+      y := t + b;
+    end affine;
+    model Use
+      parameter Real p1 = affine(1);
+      parameter Real p2 = affine(1, 3);
+      parameter Real p3 = affine(1, b = 10);
+      Real z;
+    equation
+      z = affine(time, a = 5);
+    end Use;)";
+  CHECK(value(src, "p1") == 5);
+  CHECK(value(src, "p2") == 7);
+  CHECK(value(src, "p3") == 12);
+  CHECK(contains(flat(src), "z = 5 * time + (5 + 1);"));
+}
+
+TEST_CASE("if statements become if-expressions, constant ones pick a branch", "[msl][functions]") {
+  const char *src = R"(
+    function clip
+      input Real u;
+      input Real limit;
+      output Real y;
+    algorithm
+      if limit <= 0 then
+        y := 0;
+      elseif u > limit then
+        y := limit;
+      elseif u < -limit then
+        y := -limit;
+      else
+        y := u;
+      end if;
+    end clip;
+    model Use
+      parameter Real c = clip(5, 2);
+      Real z;
+    equation
+      z = clip(time, 1);
+    end Use;)";
+  CHECK(value(src, "c") == 2);
+  CHECK(contains(flat(src), "z = if time > 1 then 1 else if time < -1 then -1 else time;"));
+}
+
+TEST_CASE("for loops are unrolled, while loops run on constants, several outputs", "[msl][functions]") {
+  const char *src = R"(
+    function poly "Horner's scheme"
+      input Real c[:];
+      input Real x;
+      output Real y;
+    algorithm
+      y := 0;
+      for i in 1:size(c, 1) loop
+        y := y * x + c[i];
+      end for;
+    end poly;
+    function halvings
+      input Real x;
+      output Integer n;
+      output Real rest;
+    algorithm
+      n := 0;
+      rest := x;
+      while rest > 1 loop
+        rest := rest / 2;
+        n := n + 1;
+      end while;
+    end halvings;
+    function squares
+      input Integer n;
+      output Real s[n];
+    algorithm
+      for i in 1:n loop
+        s[i] := i * i;
+      end for;
+    end squares;
+    model Use
+      parameter Real p = poly({1, 2, 3}, 2);
+      parameter Integer h = halvings(20);
+      parameter Real sq[3] = squares(3);
+      Real z;
+    equation
+      z = poly({2, 0}, time);
+    end Use;)";
+  CHECK(value(src, "p") == 11);
+  CHECK(value(src, "h") == 5);
+  CHECK(value(src, "sq[3]") == 9);
+  CHECK(contains(flat(src), "z = (0 * time + 2) * time + 0;"));
+}
+
+TEST_CASE("what cannot be inlined gets a diagnostic", "[msl][functions]") {
+  auto diag = [](const std::string &src) {
+    Compiled c = compile_text(src);
+    CHECK_FALSE(c.ok());
+    return c.diagnostics;
+  };
+  CHECK(contains(diag(R"(
+    function f
+      input Real u;
+      output Real y;
+    algorithm
+      y := u;
+      while y < 10 loop
+        y := y + 1;
+      end while;
+    end f;
+    model M
+      Real z = f(time);
+    end M;)"),
+                 "a while-loop whose condition depends on variables"));
+  CHECK(contains(diag(R"(
+    function g
+      input Real u;
+      output Real y;
+    external "C" y = g_impl(u);
+    end g;
+    model M
+      Real z = g(time);
+    end M;)"),
+                 "only external \"builtin\" functions are supported"));
+  CHECK(contains(diag(R"(
+    function h
+      input Real u;
+      output Real y;
+    algorithm
+      y := u;
+    end h;
+    model M
+      Real z = h();
+    end M;)"),
+                 "input 'u' of function 'h' is missing and has no default"));
+}
+
+TEST_CASE("Modelica.Constants.pi with the MSL on the lookup path", "[msl][lookup]") {
+  const std::string shared = shared_dir();
+  if (shared.empty()) {
+    WARN("SKIPPED: no ../shared/third_party (set MO_SHARED_DIR)");
+    return;
+  }
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("mo_msl_pi_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  write_file((dir / "UsesPi.mo").string(),
+             "model UsesPi\n  import Modelica.Constants.pi;\n  parameter Real tau = 2 * pi;\n"
+             "  Real phi(start = 0, fixed = true);\nequation\n  der(phi) = tau;\nend UsesPi;\n");
+  const std::string cmd = "MODELICAPATH=" + shared + "/third_party/msl-3.2.2 " + MO_MOCOMPILE + " " +
+                          (dir / "UsesPi.mo").string() + " > " + (dir / "out.txt").string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  const std::string out = read_file((dir / "out.txt").string());
+  fs::remove_all(dir);
+  INFO(out);
+  CHECK(WEXITSTATUS(status) == 0);
+  CHECK(contains(out, "parameter Real tau = 2 * 3.14159"));
+}
