@@ -213,7 +213,9 @@ void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<as
            fmt::format("the two sides of this equation have different sizes ({} and {} elements)",
                        l.elems.size(), r.elems.size()));
     for (std::size_t i = 0; i < l.elems.size(); ++i) {
-      ValueKind lk = value_kind(*l.elems[i], *model_), rk = value_kind(*r.elems[0], *model_);
+      // each element against its own right-hand side (r's earlier ones are moved out below)
+      const Expr &re = *r.elems[r.is_scalar() ? 0 : i];
+      ValueKind lk = value_kind(*l.elems[i], *model_), rk = value_kind(re, *model_);
       if (lk == ValueKind::String || rk == ValueKind::String)
         fail(DiagId::TypeMismatch, eq.range, "strings cannot appear in equations");
       if (eq.kind == EquationKind::Simple && lk != rk)
