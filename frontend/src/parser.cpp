@@ -95,11 +95,22 @@ private:
   }
 };
 
-/// True for the tokens that chain operands into a left-deep expression tree
-/// (`a - b - c` is ((a - b) - c)): each one adds a level to the AST.
-bool is_chaining_operator(std::string_view s, std::size_t type) {
-  return s == "+" || s == "-" || s == ".+" || s == ".-" || s == "*" || s == "/" || s == ".*" ||
-         s == "./" || type == g::ModelicaLexer::AND || type == g::ModelicaLexer::OR;
+/// True for the binary operators that chain operands into a left-deep
+/// expression tree (`a - b - c` is ((a - b) - c)): each one adds a level to
+/// the AST. `after_operand`: the previous token ends an operand, so '+' and
+/// '-' are binary (a leading sign is not a chain; the grammar allows one).
+bool is_chaining_operator(std::string_view s, std::size_t type, bool after_operand) {
+  if (s == "+" || s == "-" || s == ".+" || s == ".-") return after_operand;
+  return s == "*" || s == "/" || s == ".*" || s == "./" || type == g::ModelicaLexer::AND ||
+         type == g::ModelicaLexer::OR;
+}
+
+/// True if the token can end an operand (a name, a literal, a closing bracket).
+bool ends_operand(std::string_view s, std::size_t type) {
+  return type == g::ModelicaLexer::IDENT || type == g::ModelicaLexer::UNSIGNED_NUMBER ||
+         type == g::ModelicaLexer::STRING || type == g::ModelicaLexer::TRUE ||
+         type == g::ModelicaLexer::FALSE || type == g::ModelicaLexer::END || s == ")" || s == "]" ||
+         s == "}";
 }
 
 /// Bounds the depth of the expression trees a statement can build: brackets
@@ -137,6 +148,7 @@ bool check_tokens(const std::vector<antlr4::Token *> &tokens, FileId file, std::
   bool ok = true;
   unsigned ifs = 0;
   NestingCounter nesting;
+  bool after_operand = false;
   for (antlr4::Token *t : tokens) {
     SourceRange r{file, static_cast<std::uint32_t>(t->getStartIndex()),
                   static_cast<std::uint32_t>(t->getStopIndex() + 1)};
@@ -181,11 +193,13 @@ bool check_tokens(const std::vector<antlr4::Token *> &tokens, FileId file, std::
       } else if (s == ";") {
         ifs = 0;
         nesting.next_statement();
-      } else if (is_chaining_operator(s, t->getType())) {
+      } else if (is_chaining_operator(s, t->getType(), after_operand)) {
         nesting.chain();
       }
     }
     }
+    if (t->getChannel() == antlr4::Token::DEFAULT_CHANNEL) // whitespace and comments are hidden
+      after_operand = ends_operand(text.substr(r.begin, r.end - r.begin), t->getType());
     if (nesting.depth() + ifs > options.max_nesting) {
       diags.report(DiagId::NestingTooDeep, r,
                    fmt::format("expression nested more than {} levels deep", options.max_nesting));

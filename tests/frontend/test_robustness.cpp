@@ -43,8 +43,8 @@ TEST_CASE("an array equation checks every element against its own right-hand sid
   INFO(c.diagnostics);
   REQUIRE(c.ok());
   const std::string text = c.model->print();
-  CHECK(text.find("r[2] = sin(time);") != std::string::npos);
-  CHECK(text.find("v[2] = der(r[2]);") != std::string::npos);
+  CHECK(text.find("`r[2]` = sin(time);") != std::string::npos);
+  CHECK(text.find("`v[2]` = der(`r[2]`);") != std::string::npos);
 }
 
 TEST_CASE("an array equation with a mismatched element kind is a diagnostic", "[robust]") {
