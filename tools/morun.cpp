@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -22,6 +23,8 @@
 #include "mo/runtime/simulate.hpp"
 #include "common.hpp"
 #include "pipeline.hpp"
+#include "failure_diagnosis.hpp"
+#include "result_columns.hpp"
 #include "study.hpp"
 
 namespace fs = std::filesystem;
@@ -44,7 +47,8 @@ struct Options {
   std::vector<std::string> measure;  // outputs sampled into measurements.csv
   double noise = 0.0;                // their noise standard deviation
   unsigned long seed = 1;            // of the noise
-  bool aliases = false;              // eliminated variables in result.csv too
+  bool aliases = false;              // accepted for compatibility: result.csv has every variable
+  std::string variables;             // regular expression selecting result.csv's columns
 };
 
 using tools::number;
@@ -77,8 +81,8 @@ runtime::Inputs inputs(const runtime::ModelInfo& info, const Options& opt) {
   return runtime::Inputs(std::move(signals));
 }
 
-/// One PNG per group (states, outputs) of result.csv, by gnuplot.
-void plot(const std::string& dir, const runtime::ModelInfo& info) {
+/// One PNG per group (states, the first `outputs` outputs) of result.csv, by gnuplot.
+void plot(const std::string& dir, const runtime::ModelInfo& info, std::size_t outputs) {
   const std::string script_path = (fs::path(dir) / "plot.gp").string();
   std::ofstream gp(script_path);
   gp << "set datafile separator ','\nset terminal pngcairo noenhanced size 1000,600\nset xlabel 'time'\n"
@@ -92,7 +96,7 @@ void plot(const std::string& dir, const runtime::ModelInfo& info) {
     gp << "\n";
   };
   group("states.png", 0, info.num_base_states());
-  group("outputs.png", info.states.size(), info.outputs.size());
+  group("outputs.png", info.states.size(), outputs);
   gp.close();
   tools::run_gnuplot(script_path);
 }
@@ -116,6 +120,29 @@ void write_measurements(const Options& opt, const runtime::ModelInfo& info,
     out.add_row(trajectory.times()[row], values);
   }
   runtime::write_csv_atomic((fs::path(opt.output) / "measurements.csv").string(), out);
+}
+
+/// Re-evaluates the model at the state of row `k` of the trajectory (the
+/// row before if its states are not finite) so that it records why it gave
+/// non-finite values (the caller prints model.last_failure()), and returns
+/// the equation that produced the first non-finite value there, if one did.
+std::string model_failure_at(runtime::Model& model, const symbolic::OdeModel& ode, runtime::Inputs in,
+                             const std::vector<double>& p, const runtime::ResultTable& trajectory,
+                             std::size_t k) {
+  const std::size_t n = model.info().states.size();
+  auto states_finite = [&](std::size_t row) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (!std::isfinite(trajectory.at(row, i))) return false;
+    return true;
+  };
+  if (!states_finite(k) && k > 0) --k;
+  const double t = trajectory.times()[k];
+  std::vector<double> x(n), u(model.info().inputs.size()), y(model.info().outputs.size());
+  for (std::size_t i = 0; i < n; ++i) x[i] = trajectory.at(k, i);
+  in.evaluate(t, u);
+  model.outputs(t, x, u, p, y);
+  const std::span<const double> d = model.discrete();
+  return tools::explain_non_finite(ode, t, x, u, p, d);
 }
 
 int run(const Options& opt) {
@@ -142,10 +169,18 @@ int run(const Options& opt) {
   if (!ode) return 1;
   tools::expose_start_parameters(*ode, opt.sets);  // --set x.start=v
   tools::expose_start_parameters(*ode, opt.sensitivities);
+  const std::size_t model_algebraics = ode->algebraics.size();
   if (auto error = tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty())
     throw UsageError(error);
-  if (opt.aliases)  // eliminated variables become extra outputs, so extra columns
-    ode->outputs.insert(ode->outputs.end(), ode->eliminated.begin(), ode->eliminated.end());
+  const std::size_t declared_outputs = ode->outputs.size();
+  // every variable of the model is a column of result.csv (as extra outputs)
+  tools::add_all_variables(*ode, model_algebraics);
+  std::optional<std::regex> filter;
+  if (!opt.variables.empty()) try {
+      filter.emplace(opt.variables, std::regex::ECMAScript);
+    } catch (const std::regex_error& e) {
+      throw UsageError("--variables: '" + opt.variables + "' is not a regular expression: " + e.what());
+    }
   tools::BuiltModel built = tools::build_model(*ode, opt.jobs, "morun");
   const auto& compiled = built.compiled;
   runtime::Model* model = built.model.get();
@@ -157,22 +192,40 @@ int run(const Options& opt) {
   if (!opt.sensitivities.empty()) so.sensitivities.method = runtime::SensitivityMethod::model_states;
   const auto result = runtime::simulate(*model, inputs(info, opt),
                                         p, runtime::OutputGrid::uniform(0.0, opt.stop_time, opt.intervals), so);
+  // NaN or infinity never reaches result.csv: rows from the first one on are
+  // dropped and the run fails, naming the variables and the model's reason.
+  runtime::SimulationResult checked = result;
+  if (const auto bad = tools::first_non_finite_row(result.trajectory)) {
+    const double t = result.trajectory.times()[*bad];
+    checked.trajectory = tools::first_rows(result.trajectory, *bad);
+    if (result.ok()) {
+      checked.status = runtime::SimulationStatus::rhs_failure;
+      checked.message = fmt::format("non-finite values at t = {} in {}", t,
+                                    tools::non_finite_columns(result.trajectory, *bad));
+      const std::string where = model_failure_at(*model, *ode, inputs(info, opt), p, result.trajectory, *bad);
+      if (!where.empty()) checked.message += "\n  from " + where;
+    }
+  }
   fs::create_directories(opt.output);
-  runtime::write_csv_atomic((fs::path(opt.output) / "result.csv").string(), result.trajectory);
-  if (!opt.measure.empty() && result.ok()) write_measurements(opt, info, result.trajectory);
-  nlohmann::json summary = nlohmann::json::parse(runtime::summary_json(result));
+  runtime::write_csv_atomic((fs::path(opt.output) / "result.csv").string(),
+                            tools::select_columns(checked.trajectory, filter));
+  if (!opt.measure.empty() && checked.ok()) write_measurements(opt, info, checked.trajectory);
+  nlohmann::json summary = nlohmann::json::parse(runtime::summary_json(checked));
   summary["model"] = info.name;
   summary["compile"] = {{"cached", compiled.cached}, {"seconds", compiled.seconds},
                         {"library", compiled.library}, {"key", compiled.key}};
   runtime::write_file_atomic((fs::path(opt.output) / "summary.json").string(),
                              [&](std::ostream& os) { os << summary.dump(2) << "\n"; });
   if (!model->last_failure().empty()) std::cerr << "morun: model: " << model->last_failure() << "\n";
-  if (!result.ok()) {
-    std::cerr << "morun: simulation failed: " << runtime::to_string(result.status) << ": "
-              << result.message << "\n";
+  if (!checked.ok()) {
+    std::cerr << "morun: simulation failed: " << runtime::to_string(checked.status) << ": "
+              << checked.message << "\n";
+    if (checked.trajectory.rows() > 0)
+      std::cerr << fmt::format("morun: result.csv holds the {} rows up to t = {}\n", checked.trajectory.rows(),
+                               checked.trajectory.times().back());
     return 1;
   }
-  if (opt.plot) plot(opt.output, info);
+  if (opt.plot) plot(opt.output, info, declared_outputs);
   std::cerr << fmt::format("morun: simulated to t = {} in {:.3f} s; results in {}\n", opt.stop_time,
                            result.statistics.wall_time_seconds, opt.output);
   return 0;
@@ -204,7 +257,9 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("-o,--output", opt.output, "Result directory")->capture_default_str();
   app.add_flag("--aliases", opt.aliases,
-               "Also write the variables that lowering eliminated (aliases, constants) to result.csv");
+               "Accepted for compatibility: result.csv always holds every variable, eliminated aliases included");
+  app.add_option("--variables", opt.variables,
+                 "Only the result.csv columns whose flat names match this regular expression (all of the name)");
   app.add_flag("--plot", opt.plot, "Also write PNG plots (needs gnuplot)");
   app.add_option("-j,--jobs", opt.jobs, "Compile this many generated files in parallel")->capture_default_str();
   app.add_option("--measure", opt.measure,
