@@ -1,11 +1,15 @@
 #!/usr/bin/env bash
-# Runs the parser fuzzer for a bounded time: scripts/fuzz.sh [SECONDS].
-# Seeds: every .mo file of the repository. Crashes are written to
-# build-fuzz/crashes/ and make the script fail.
+# Runs the front end's fuzz targets, one per stage (parse, flatten, lower,
+# cpp: fuzz/stage_fuzzer.cpp), for a bounded total time split evenly between
+# them: scripts/fuzz.sh [SECONDS] [STAGE...]. Seeds: every .mo/.mop/.opt file
+# of the repository. Crashes are written to build-fuzz/crashes/STAGE/ and make
+# the script fail.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-60}
 build=$root/build-fuzz
+export CCACHE_DIR=${CCACHE_DIR:-$HOME/.cache/ccache}
+export CCACHE_BASEDIR=${CCACHE_BASEDIR:-$root} CCACHE_NOHASHDIR=${CCACHE_NOHASHDIR:-true}
 # clang rejects one constructor in Debian's ANTLR 4.9 runtime headers that
 # g++ accepts (a defaulted member with a deleted default constructor); the
 # fuzz build uses a copy of the headers with that unused constructor removed.
@@ -19,16 +23,32 @@ fi
 cmake -S "$root" -B "$build" -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
   -DCMAKE_CXX_COMPILER=clang++-14 -DMO_FUZZ=ON -DMO_BUILD_TESTS=OFF \
   -DMO_ANTLR4_INCLUDE_DIR="$headers" >/dev/null
-cmake --build "$build" --target parse_fuzzer -j "$(nproc)"
-corpus=$build/corpus
-mkdir -p "$corpus" "$build/crashes"
+stages=("${@:2}")
+[ ${#stages[@]} -gt 0 ] || stages=(parse flatten lower cpp)
+targets=()
+for stage in "${stages[@]}"; do targets+=("fuzz_$stage"); done
+cmake --build "$build" --target "${targets[@]}" -j "$(nproc)"
 seeds=$build/seeds
 rm -rf "$seeds" && mkdir -p "$seeds"
 i=0
 while IFS= read -r -d '' f; do
   # keep seeds small so mutations stay fast
   if [ "$(stat -c %s "$f")" -le 65536 ]; then cp "$f" "$seeds/seed_$i.mo"; i=$((i + 1)); fi
-done < <(find "$root/modelica" "$root/tests" -name '*.mo' -print0)
-echo "fuzz: $i seeds, $seconds s"
-"$build/frontend/parse_fuzzer" -max_total_time="$seconds" -max_len=8192 -timeout=10 \
-  -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$build/crashes/" "$corpus" "$seeds" 2>&1 | tail -15
+done < <(find "$root/modelica" "$root/tests" \( -name '*.mo' -o -name '*.mop' -o -name '*.opt' \) -print0)
+each=$(( seconds / ${#stages[@]} ))
+[ "$each" -ge 1 ] || each=1
+echo "fuzz: $i seeds, ${#stages[@]} stages, $each s each"
+status=0
+for stage in "${stages[@]}"; do
+  corpus=$build/corpus/$stage crashes=$build/crashes/$stage
+  mkdir -p "$corpus" "$crashes"
+  echo "== fuzz_$stage"
+  if ! "$build/fuzz/fuzz_$stage" -max_total_time="$each" -max_len=8192 -timeout=10 \
+    -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$crashes/" "$corpus" "$seeds" \
+    >"$build/fuzz_$stage.log" 2>&1; then
+    status=1
+    grep -E "ERROR|SUMMARY|Test unit written" "$build/fuzz_$stage.log" | head -20
+  fi
+  tail -3 "$build/fuzz_$stage.log"
+done
+exit $status

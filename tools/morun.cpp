@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -24,8 +25,10 @@
 #include "common.hpp"
 #include "measured_outputs.hpp"
 #include "pipeline.hpp"
+#include "failure_diagnosis.hpp"
 #include "plot.hpp"
 #include "progress.hpp"
+#include "result_columns.hpp"
 #include "study.hpp"
 
 namespace fs = std::filesystem;
@@ -48,7 +51,8 @@ struct Options {
   std::vector<std::string> measure;  // outputs sampled into measurements.csv
   double noise = 0.0;                // their noise standard deviation
   unsigned long seed = 1;            // of the noise
-  bool aliases = false;              // eliminated variables in result.csv too
+  bool aliases = false;              // accepted for compatibility: result.csv has every variable
+  std::string variables;             // regular expression selecting result.csv's columns
   bool quiet = false;                // no progress on stderr
 };
 
@@ -110,6 +114,29 @@ void write_measurements(const Options& opt, const runtime::ModelInfo& info,
   runtime::write_csv_atomic((fs::path(opt.output) / "measurements.csv").string(), out);
 }
 
+/// Re-evaluates the model at the state of row `k` of the trajectory (the
+/// row before if its states are not finite) so that it records why it gave
+/// non-finite values (the caller prints model.last_failure()), and returns
+/// the equation that produced the first non-finite value there, if one did.
+std::string model_failure_at(runtime::Model& model, const symbolic::OdeModel& ode, runtime::Inputs in,
+                             const std::vector<double>& p, const runtime::ResultTable& trajectory,
+                             std::size_t k) {
+  const std::size_t n = model.info().states.size();
+  auto states_finite = [&](std::size_t row) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (!std::isfinite(trajectory.at(row, i))) return false;
+    return true;
+  };
+  if (!states_finite(k) && k > 0) --k;
+  const double t = trajectory.times()[k];
+  std::vector<double> x(n), u(model.info().inputs.size()), y(model.info().outputs.size());
+  for (std::size_t i = 0; i < n; ++i) x[i] = trajectory.at(k, i);
+  in.evaluate(t, u);
+  model.outputs(t, x, u, p, y);
+  const std::span<const double> d = model.discrete();
+  return tools::explain_non_finite(ode, t, x, u, p, d);
+}
+
 int run(const Options& opt, tools::RunContext& ctx) {
   frontend::SourceManager sources;
   frontend::DiagnosticEngine diags(sources);
@@ -134,6 +161,7 @@ int run(const Options& opt, tools::RunContext& ctx) {
   }
   if (opt.stop_time <= 0) throw UsageError("--stop-time is required to simulate a model");
   std::optional<symbolic::OdeModel> ode;
+  std::size_t declared_outputs = 0;
   {
     tools::PhaseScope phase(&ctx, "lower", flat->name);
     ode = tools::lower_model(*flat, diags);
@@ -141,16 +169,21 @@ int run(const Options& opt, tools::RunContext& ctx) {
     if (!ode) return 1;
     tools::expose_start_parameters(*ode, opt.sets);  // --set x.start=v
     tools::expose_start_parameters(*ode, opt.sensitivities);
+    const std::size_t model_algebraics = ode->algebraics.size();
     if (const auto unknown = tools::add_measured_outputs(*ode, opt.measure); !unknown.empty())
       throw UsageError("--measure: the model has no variable '" + unknown.front() + "'");
     if (auto error = tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty())
       throw UsageError(error);
+    declared_outputs = ode->outputs.size();
+    // every variable of the model is a column of result.csv (as extra outputs)
+    tools::add_all_variables(*ode, model_algebraics);
   }
-  if (opt.aliases)  // eliminated variables become extra outputs, so extra columns
-    for (const auto& e : ode->eliminated)
-      if (std::none_of(ode->outputs.begin(), ode->outputs.end(),
-                       [&](const auto& y) { return y.info.name == e.info.name; }))
-        ode->outputs.push_back(e);
+  std::optional<std::regex> filter;
+  if (!opt.variables.empty()) try {
+      filter.emplace(opt.variables, std::regex::ECMAScript);
+    } catch (const std::regex_error& e) {
+      throw UsageError("--variables: '" + opt.variables + "' is not a regular expression: " + e.what());
+    }
   tools::BuiltModel built = tools::build_model(*ode, opt.jobs, "morun", &ctx, opt.quiet);
   const auto& compiled = built.compiled;
   runtime::Model* model = built.model.get();
@@ -170,10 +203,25 @@ int run(const Options& opt, tools::RunContext& ctx) {
     result = runtime::simulate(*model, inputs(info, opt), p,
                                runtime::OutputGrid::uniform(0.0, opt.stop_time, opt.intervals), so);
   }
+  // NaN or infinity never reaches result.csv: rows from the first one on are
+  // dropped and the run fails, naming the variables and the model's reason.
+  runtime::SimulationResult checked = result;
+  if (const auto bad = tools::first_non_finite_row(result.trajectory)) {
+    const double t = result.trajectory.times()[*bad];
+    checked.trajectory = tools::first_rows(result.trajectory, *bad);
+    if (result.ok()) {
+      checked.status = runtime::SimulationStatus::rhs_failure;
+      checked.message = fmt::format("non-finite values at t = {} in {}", t,
+                                    tools::non_finite_columns(result.trajectory, *bad));
+      const std::string where = model_failure_at(*model, *ode, inputs(info, opt), p, result.trajectory, *bad);
+      if (!where.empty()) checked.message += "\n  from " + where;
+    }
+  }
   fs::create_directories(opt.output);
-  runtime::write_csv_atomic((fs::path(opt.output) / "result.csv").string(), result.trajectory);
-  if (!opt.measure.empty() && result.ok()) write_measurements(opt, info, result.trajectory);
-  nlohmann::json summary = nlohmann::json::parse(runtime::summary_json(result));
+  runtime::write_csv_atomic((fs::path(opt.output) / "result.csv").string(),
+                            tools::select_columns(checked.trajectory, filter));
+  if (!opt.measure.empty() && checked.ok()) write_measurements(opt, info, checked.trajectory);
+  nlohmann::json summary = nlohmann::json::parse(runtime::summary_json(checked));
   summary["model"] = info.name;
   summary["compile"] = {{"cached", compiled.cached}, {"seconds", compiled.seconds},
                         {"library", compiled.library}, {"key", compiled.key}};
@@ -182,12 +230,15 @@ int run(const Options& opt, tools::RunContext& ctx) {
   runtime::write_file_atomic((fs::path(opt.output) / "summary.json").string(),
                              [&](std::ostream& os) { os << summary.dump(2) << "\n"; });
   if (!model->last_failure().empty()) std::cerr << "morun: model: " << model->last_failure() << "\n";
-  if (!result.ok()) {
-    std::cerr << "morun: simulation failed: " << runtime::to_string(result.status) << ": "
-              << result.message << "\n";
+  if (!checked.ok()) {
+    std::cerr << "morun: simulation failed: " << runtime::to_string(checked.status) << ": "
+              << checked.message << "\n";
+    if (checked.trajectory.rows() > 0)
+      std::cerr << fmt::format("morun: result.csv holds the {} rows up to t = {}\n", checked.trajectory.rows(),
+                               checked.trajectory.times().back());
     return 1;
   }
-  if (opt.plot) tools::plot_simulation(opt.output, info);
+  if (opt.plot) tools::plot_simulation(opt.output, info, declared_outputs);
   std::cerr << fmt::format("morun: simulated to t = {} in {:.3f} s; results in {}\n", opt.stop_time,
                            result.statistics.wall_time_seconds, opt.output);
   return 0;
@@ -219,7 +270,9 @@ int main(int argc, char** argv) {
       ->delimiter(',');
   app.add_option("-o,--output", opt.output, "Result directory")->capture_default_str();
   app.add_flag("--aliases", opt.aliases,
-               "Also write the variables that lowering eliminated (aliases, constants) to result.csv");
+               "Accepted for compatibility: result.csv always holds every variable, eliminated aliases included");
+  app.add_option("--variables", opt.variables,
+                 "Only the result.csv columns whose flat names match this regular expression (all of the name)");
   app.add_flag("--plot", opt.plot, "Also write plots, PNG and SVG (needs gnuplot)");
   app.add_flag("-q,--quiet", opt.quiet,
                "No progress on stderr (by default work longer than 2 s reports its stage, at most once a second)");

@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <fstream>
 #include <map>
 #include <sstream>
 
@@ -159,7 +160,35 @@ nlohmann::json unit_map(const runtime::ModelInfo& info) {
   return j;
 }
 
-void plot_simulation(const std::string& dir, const runtime::ModelInfo& info) {
+namespace {
+
+/// Sets each variable's column to the one its name has in the header of
+/// `csv` (gnuplot counts from 1, time is column 1) and drops the variables
+/// the file does not hold.
+std::vector<PlotVariable> columns_by_name(const std::string& csv, std::vector<PlotVariable> vars) {
+  std::ifstream in(csv);
+  std::string header;
+  std::getline(in, header);
+  std::map<std::string, std::size_t> column;
+  std::size_t k = 1;
+  for (std::size_t start = 0;; ++k) {
+    const std::size_t end = header.find(',', start);
+    column.emplace(header.substr(start, end == std::string::npos ? std::string::npos : end - start), k);
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  std::vector<PlotVariable> out;
+  for (auto& v : vars)
+    if (const auto it = column.find(v.name); it != column.end()) {
+      v.column = it->second;
+      out.push_back(std::move(v));
+    }
+  return out;
+}
+
+}  // namespace
+
+void plot_simulation(const std::string& dir, const runtime::ModelInfo& info, std::size_t declared_outputs) {
   const std::string csv = (fs::path(dir) / "result.csv").string();
   std::vector<PlotVariable> states, outputs, sensitivities;
   for (std::size_t i = 0; i < info.states.size(); ++i) {
@@ -172,7 +201,7 @@ void plot_simulation(const std::string& dir, const runtime::ModelInfo& info) {
                              quotient_unit(info.states[x.sensitivity->state].unit,
                                            info.parameters[x.sensitivity->parameter].unit)});
   }
-  for (std::size_t k = 0; k < info.outputs.size(); ++k) {
+  for (std::size_t k = 0; k < info.outputs.size() && k < declared_outputs; ++k) {
     const auto& y = info.outputs[k];
     if (!y.name.starts_with("d(") && !y.name.starts_with("$"))
       outputs.push_back({info.states.size() + k + 2, y.name, y.unit});
@@ -181,7 +210,7 @@ void plot_simulation(const std::string& dir, const runtime::ModelInfo& info) {
   auto draw = [&](std::vector<PlotVariable> vars, const std::string& what, const std::string& stem) {
     Figure f;
     f.title = fmt::format("{}: {} (simulation)", info.name, what);
-    f.panels = panels_by_unit(csv, vars);
+    f.panels = panels_by_unit(csv, columns_by_name(csv, std::move(vars)));
     if (f.panels.size() > kMaxPanels) {
       f.title += fmt::format(" - first {} of {} panels", kMaxPanels, f.panels.size());
       f.panels.resize(kMaxPanels);

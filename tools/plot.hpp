@@ -87,8 +87,11 @@ std::vector<Panel> panels_by_unit(const std::string& file, const std::vector<Plo
 nlohmann::json unit_map(const runtime::ModelInfo& info);
 
 /// morun --plot for a simulation: DIR/states.{png,svg} (base states),
-/// DIR/outputs.{png,svg} (outputs) and, if present, DIR/sensitivities.{png,svg},
-/// from DIR/result.csv, panels by unit.
-void plot_simulation(const std::string& dir, const runtime::ModelInfo& info);
+/// DIR/outputs.{png,svg} (the first `outputs` outputs: the declared ones, not
+/// the variables added as columns) and, if present, DIR/sensitivities.{png,svg},
+/// from DIR/result.csv, panels by unit. Columns are found by name in
+/// result.csv's header; a variable it does not hold (--variables) is not drawn.
+void plot_simulation(const std::string& dir, const runtime::ModelInfo& info,
+                     std::size_t outputs = static_cast<std::size_t>(-1));
 
 }  // namespace mo::tools

@@ -4,6 +4,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 
 #include "derivatives.hpp"
 #include "mo/codegen/program.hpp"
@@ -185,14 +186,30 @@ private:
         continue;
       }
       const auto& blk = std::get<symbolic::EquationBlock>(step);
-      const std::string description = std::string(blk.linear ? "linear" : "nonlinear") +
-                                      " block " + std::to_string(++number) + " for " +
-                                      names_of(arena(), blk.unknowns);
+      std::string description = std::string(blk.linear ? "linear" : "nonlinear") + " block " +
+                                std::to_string(++number) + " for " + names_of(arena(), blk.unknowns);
+      for (std::size_t i = 0; i < blk.origins.size(); ++i)  // where its equations are written
+        if (!blk.origins[i].empty()) description += (i ? "\n    " : "\n  equations: ") + blk.origins[i];
       b.block(blk, description, p_.sections[static_cast<std::size_t>(p_.steps)]);
+      if (!blk.linear) bounds(blk, p_.blocks.back());
     }
     Section& s = p_.sections[static_cast<std::size_t>(p_.steps)];
     for (const auto& x : m_.states) p_.derivative_slots.push_back(b.root(x.derivative, s));
     after_steps_ = b.valid();
+  }
+
+  /// The unknowns' nominal, min and max (algebraic variables declare them;
+  /// derivatives have none), for the Newton solve.
+  void bounds(const symbolic::EquationBlock& blk, BlockCode& code) {
+    if (algebraic_info_.empty())
+      for (const auto& v : m_.algebraics) algebraic_info_.emplace(v.symbol.id(), &v.info);
+    for (Expr z : blk.unknowns) {
+      symbolic::VariableInfo info;
+      if (auto it = algebraic_info_.find(z.id()); it != algebraic_info_.end()) info = *it->second;
+      code.nominal.push_back(info.nominal);
+      code.lower.push_back(info.min);
+      code.upper.push_back(info.max);
+    }
   }
 
   void outputs() {
@@ -498,6 +515,7 @@ private:
   detail::Derivatives derivatives_;
   detail::SecondDerivatives second_;
   detail::Validity after_steps_, after_starts_;
+  std::unordered_map<std::size_t, const symbolic::VariableInfo*> algebraic_info_;  ///< symbol id → declaration
 };
 
 }  // namespace

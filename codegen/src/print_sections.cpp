@@ -16,6 +16,12 @@ std::string int_array(const std::string& name, const std::vector<T>& values) {
   return fmt::format("const int {}[] = {{{}}};\n", name, fmt::join(values, ", "));
 }
 
+std::string double_array(const std::string& name, const std::vector<double>& values) {
+  std::vector<std::string> text;
+  for (double v : values) text.push_back(cpp_double(v));
+  return fmt::format("const double {}[] = {{{}}};\n", name, fmt::join(text, ", "));
+}
+
 class SectionPrinter {
 public:
   SectionPrinter(const symbolic::ExprArena& a, const Program& p, const CodegenOptions& o)
@@ -96,8 +102,10 @@ private:
       r += fmt::format("const G::LinearBlock {0} = {{{1}, {0}_unknowns, {0}_values, {0}_entries, {2}, {3}}};\n\n",
                        n, b.unknowns.size(), b.entries.size(), cpp_string_literal(b.description));
     else
-      r += fmt::format("const G::NonlinearBlock {0} = {{{1}, {0}_unknowns, {0}_values, {0}_entries, {2}, "
-                       "section_{3}, {4}}};\n\n",
+      r += double_array(n + "_nominal", b.nominal) + double_array(n + "_lower", b.lower) +
+           double_array(n + "_upper", b.upper) +
+           fmt::format("const G::NonlinearBlock {0} = {{{1}, {0}_unknowns, {0}_values, {0}_entries, {2}, "
+                       "section_{3}, {4}, {0}_nominal, {0}_lower, {0}_upper}};\n\n",
                        n, b.unknowns.size(), b.entries.size(), b.inner_section,
                        cpp_string_literal(b.description));
   }

@@ -100,12 +100,60 @@ private:
   }
 };
 
+/// True for the binary operators that chain operands into a left-deep
+/// expression tree (`a - b - c` is ((a - b) - c)): each one adds a level to
+/// the AST. `after_operand`: the previous token ends an operand, so '+' and
+/// '-' are binary (a leading sign is not a chain; the grammar allows one).
+bool is_chaining_operator(std::string_view s, std::size_t type, bool after_operand) {
+  if (s == "+" || s == "-" || s == ".+" || s == ".-") return after_operand;
+  return s == "*" || s == "/" || s == ".*" || s == "./" || type == g::ModelicaLexer::AND ||
+         type == g::ModelicaLexer::OR;
+}
+
+/// True if the token can end an operand (a name, a literal, a closing bracket).
+bool ends_operand(std::string_view s, std::size_t type) {
+  return type == g::ModelicaLexer::IDENT || type == g::ModelicaLexer::UNSIGNED_NUMBER ||
+         type == g::ModelicaLexer::STRING || type == g::ModelicaLexer::TRUE ||
+         type == g::ModelicaLexer::FALSE || type == g::ModelicaLexer::END || s == ")" || s == "]" ||
+         s == "}";
+}
+
+/// Bounds the depth of the expression trees a statement can build: brackets
+/// and if-expressions nest, and each chaining operator in the current list
+/// element adds a level (a 20 000-term sum is 20 000 levels deep). Counts are
+/// kept per bracket level and restart at ',' and ';', so long lists and many
+/// statements are free.
+class NestingCounter {
+public:
+  void open() { chains_.push_back(0); }
+  void close() {
+    if (!chains_.empty()) chains_.pop_back();
+  }
+  void next_element() {
+    if (!chains_.empty()) chains_.back() = 0; else top_ = 0;
+  }
+  void next_statement() { chains_.clear(), top_ = 0; }
+  void chain() { ++(chains_.empty() ? top_ : chains_.back()); }
+  /// Upper bound of the tree depth so far (brackets + operator chains).
+  std::size_t depth() const {
+    std::size_t d = top_ + chains_.size();
+    for (unsigned c : chains_) d += c;
+    return d;
+  }
+
+private:
+  std::vector<unsigned> chains_; ///< chaining operators per open bracket
+  unsigned top_ = 0;             ///< chaining operators outside brackets
+};
+
 /// Reports lexical error tokens and over-deep nesting. Returns false when the
 /// token stream must not be parsed.
 bool check_tokens(const std::vector<antlr4::Token *> &tokens, FileId file, std::string_view text,
                   DiagnosticEngine &diags, const ParseOptions &options) {
   bool ok = true;
-  unsigned depth = 0, ifs = 0;
+  unsigned ifs = 0;
+  NestingCounter nesting;
+  bool after_operand = false;
   for (antlr4::Token *t : tokens) {
     SourceRange r{file, static_cast<std::uint32_t>(t->getStartIndex()),
                   static_cast<std::uint32_t>(t->getStopIndex() + 1)};
@@ -142,15 +190,22 @@ bool check_tokens(const std::vector<antlr4::Token *> &tokens, FileId file, std::
     default: {
       std::string_view s = text.substr(r.begin, r.end - r.begin);
       if (s == "(" || s == "[" || s == "{") {
-        ++depth;
-      } else if ((s == ")" || s == "]" || s == "}") && depth > 0) {
-        --depth;
+        nesting.open();
+      } else if (s == ")" || s == "]" || s == "}") {
+        nesting.close();
+      } else if (s == ",") {
+        nesting.next_element();
       } else if (s == ";") {
         ifs = 0;
+        nesting.next_statement();
+      } else if (is_chaining_operator(s, t->getType(), after_operand)) {
+        nesting.chain();
       }
     }
     }
-    if (depth + ifs > options.max_nesting) {
+    if (t->getChannel() == antlr4::Token::DEFAULT_CHANNEL) // whitespace and comments are hidden
+      after_operand = ends_operand(text.substr(r.begin, r.end - r.begin), t->getType());
+    if (nesting.depth() + ifs > options.max_nesting) {
       diags.report(DiagId::NestingTooDeep, r,
                    fmt::format("expression nested more than {} levels deep", options.max_nesting));
       return false;

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <fmt/format.h>
+#include <string_view>
 
 namespace mo::runtime::generated {
 
@@ -31,8 +32,32 @@ void assemble(const BlockEntry* entries, int count, Size n, const double* w, Blo
 bool fail(const char* description, const int* unknowns, Size n, double* w, BlockWorkspace& ws,
           const std::string& why) {
   for (Size i = 0; i < n; ++i) w[unknowns[i]] = std::numeric_limits<double>::quiet_NaN();
-  ws.failure = fmt::format("{} at t = {}: {}", description, ws.time, why);
+  // The first failure of an evaluation is the cause; later blocks only see its NaN.
+  // The description's first line names the block; later lines list its equations.
+  if (ws.failure.empty()) {
+    const std::string_view d(description);
+    const auto eol = std::min(d.find('\n'), d.size());
+    ws.failure = fmt::format("{} at t = {}: {}{}", d.substr(0, eol), ws.time, why, d.substr(eol));
+  }
   return false;
+}
+
+/// The unknowns' values as "(z0, z1, ...)" for messages.
+std::string iterate_text(const NonlinearBlock& b, const double* w) {
+  std::string out = "(";
+  for (int i = 0; i < b.size; ++i) out += fmt::format("{}{:g}", i ? ", " : "", w[b.unknowns[i]]);
+  return out + ")";
+}
+
+double nominal_of(const NonlinearBlock& b, Size i) {
+  return b.nominal && b.nominal[i] > 0 && std::isfinite(b.nominal[i]) ? b.nominal[i] : 1.0;
+}
+
+/// z clamped into the declared [min, max] of unknown i.
+double within_bounds(const NonlinearBlock& b, Size i, double z) {
+  if (b.lower && z < b.lower[i]) z = b.lower[i];
+  if (b.upper && z > b.upper[i]) z = b.upper[i];
+  return z;
 }
 
 /// max |r_i|, or +inf if some residual is not finite.
@@ -46,6 +71,40 @@ double residual_norm(const NonlinearBlock& b, const double* w) {
   return norm;
 }
 
+/// ws.scale[i] = max_j |J_ij| · nominal_j from the assembled ws.a (1 for a zero row).
+void row_scales(const NonlinearBlock& b, BlockWorkspace& ws) {
+  const auto n = static_cast<Size>(b.size);
+  ws.scale.assign(n, 0.0);
+  for (Size i = 0; i < n; ++i) {
+    for (Size j = 0; j < n; ++j)
+      ws.scale[i] = std::max(ws.scale[i], std::fabs(ws.a[i * n + j]) * nominal_of(b, j));
+    if (!(ws.scale[i] > 0.0) || !std::isfinite(ws.scale[i])) ws.scale[i] = 1.0;
+  }
+}
+
+/// max |r_i| / scale_i, or +inf if some residual is not finite.
+double scaled_norm(const NonlinearBlock& b, const double* w, const BlockWorkspace& ws) {
+  double norm = 0.0;
+  for (int i = 0; i < b.size; ++i) {
+    const double r = w[b.residuals[i]];
+    if (!std::isfinite(r)) return std::numeric_limits<double>::infinity();
+    norm = std::max(norm, std::fabs(r) / ws.scale[static_cast<Size>(i)]);
+  }
+  return norm;
+}
+
+/// The largest λ in (0, 1] with z + λ dz within [lower, upper] (ws.z, ws.dz),
+/// or 0 if an unknown on its bound points outward.
+double step_to_bounds(const NonlinearBlock& b, const BlockWorkspace& ws) {
+  double lambda = 1.0;
+  for (Size i = 0; i < static_cast<Size>(b.size); ++i) {
+    const double z = ws.z[i], dz = ws.dz[i];
+    if (b.upper && dz > 0 && z + dz > b.upper[i]) lambda = std::min(lambda, (b.upper[i] - z) / dz);
+    if (b.lower && dz < 0 && z + dz < b.lower[i]) lambda = std::min(lambda, (b.lower[i] - z) / dz);
+  }
+  return std::max(lambda, 0.0);
+}
+
 }  // namespace
 
 bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws) {
@@ -53,6 +112,10 @@ bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws) {
   prepare(ws, n);
   assemble(block.entries, block.num_entries, n, w, ws);
   for (Size i = 0; i < n; ++i) ws.b[i] = -w[block.offsets[i]];
+  const auto finite = [](double v) { return std::isfinite(v); };
+  if (!std::all_of(ws.a.begin(), ws.a.end(), finite) || !std::all_of(ws.b.begin(), ws.b.end(), finite))
+    return fail(block.description, block.unknowns, n, w, ws,
+                "its coefficients are not finite (a value it uses is NaN or infinite)");
   if (!solve_dense(ws.a, ws.pivots, ws.b))
     return fail(block.description, block.unknowns, n, w, ws, "the matrix is singular");
   for (Size i = 0; i < n; ++i) w[block.unknowns[i]] = ws.b[i];
@@ -63,16 +126,20 @@ bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws)
   const auto n = static_cast<Size>(block.size);
   const NewtonOptions& opt = ws.newton;
   prepare(ws, n);
-  for (Size i = 0; i < n; ++i)  // a NaN left by an earlier failure is no start
-    if (!std::isfinite(w[block.unknowns[i]])) w[block.unknowns[i]] = 0.0;
+  for (Size i = 0; i < n; ++i) {  // a NaN left by an earlier failure is no start
+    double& z = w[block.unknowns[i]];
+    z = within_bounds(block, i, std::isfinite(z) ? z : 0.0);
+  }
   block.evaluate(w);
   double norm = residual_norm(block, w);
   if (!std::isfinite(norm))
     return fail(block.description, block.unknowns, n, w, ws,
-                "the residuals are not finite at the start guess");
+                "the residuals are not finite at the start guess " + iterate_text(block, w));
   for (int iteration = 0; iteration < opt.max_iterations; ++iteration) {
     if (norm <= opt.residual_tolerance) return true;
     assemble(block.entries, block.num_entries, n, w, ws);
+    row_scales(block, ws);
+    const double merit = scaled_norm(block, w, ws);
     for (Size i = 0; i < n; ++i) ws.b[i] = -w[block.residuals[i]];
     if (!solve_dense(ws.a, ws.pivots, ws.b))
       return fail(block.description, block.unknowns, n, w, ws,
@@ -81,27 +148,37 @@ bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws)
     for (Size i = 0; i < n; ++i) {
       ws.z[i] = w[block.unknowns[i]];
       ws.dz[i] = ws.b[i];
-      small_step = small_step && std::fabs(ws.dz[i]) <= opt.step_tolerance * (1 + std::fabs(ws.z[i]));
+      small_step = small_step &&
+                   std::fabs(ws.dz[i]) <= opt.step_tolerance * (nominal_of(block, i) + std::fabs(ws.z[i]));
     }
     // Damping: halve the step until the residual norm decreases (Armijo-like).
-    double lambda = 1.0, trial = norm;
+    // The step is first shortened to stay within the unknowns' bounds (its
+    // direction kept); if an unknown on its bound points outward, the trial
+    // points are projected onto the bounds instead.
+    // The merit is the residual in units of each equation's sensitivity to
+    // the unknowns at their nominal scale, so that an equation in pascals
+    // does not outweigh one in fractions.
+    double lambda = step_to_bounds(block, ws), trial = merit;
+    if (lambda <= 0.0) lambda = 1.0;
     for (int halving = 0; halving <= opt.max_halvings; ++halving, lambda *= 0.5) {
-      for (Size i = 0; i < n; ++i) w[block.unknowns[i]] = ws.z[i] + lambda * ws.dz[i];
+      for (Size i = 0; i < n; ++i)
+        w[block.unknowns[i]] = within_bounds(block, i, ws.z[i] + lambda * ws.dz[i]);
       block.evaluate(w);
-      trial = residual_norm(block, w);
-      if (trial < (1 - 1e-4 * lambda) * norm) break;
+      trial = scaled_norm(block, w, ws);
+      if (trial < (1 - 1e-4 * lambda) * merit) break;
     }
     if (!std::isfinite(trial))
       return fail(block.description, block.unknowns, n, w, ws,
-                  fmt::format("residuals not finite along the Newton step at iteration {}",
-                              iteration));
-    norm = trial;
+                  fmt::format("residuals not finite along the Newton step at iteration {} from {}",
+                              iteration, iterate_text(block, w)));
+    norm = residual_norm(block, w);
     if (small_step) return true;
   }
   if (norm <= opt.residual_tolerance) return true;
+  const std::string last = iterate_text(block, w);
   return fail(block.description, block.unknowns, n, w, ws,
-              fmt::format("Newton did not converge in {} iterations (max |residual| = {:g})",
-                          opt.max_iterations, norm));
+              fmt::format("Newton did not converge in {} iterations (max |residual| = {:g} at {})",
+                          opt.max_iterations, norm, last));
 }
 
 }  // namespace mo::runtime::generated

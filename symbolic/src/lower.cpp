@@ -3,6 +3,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "alias.hpp"
 #include "dae_build.hpp"
 #include "index_reduction.hpp"
@@ -85,8 +87,9 @@ std::vector<double> start_values(const Dae& dae) {
 /// Builds the OdeModel: final symbols with their roles, steps from the BLT.
 class Assembler {
 public:
-  Assembler(Dae& dae, const std::vector<bool>& state, const System& sys, const Matching& m)
-      : dae_(dae), state_(state), sys_(sys), m_(m) {}
+  Assembler(Dae& dae, const std::vector<bool>& state, const System& sys, const Matching& m,
+            frontend::DiagnosticEngine& diags)
+      : dae_(dae), state_(state), sys_(sys), m_(m), diags_(diags), sources_(diags.sources()) {}
 
   OdeModel run(const std::vector<std::vector<int>>& blocks) {
     OdeModel out;
@@ -160,7 +163,63 @@ private:
       unknowns.push_back(map_.at(dae_.vars[at(var)].symbol));
       start.push_back(start_values_[at(var)]);
     }
-    out.steps.push_back(solve_block(a(), residuals, unknowns, start));
+    Step step = solve_block(a(), residuals, unknowns, start);
+    if (const auto* b = std::get_if<EquationBlock>(&step); b && b->linear && constant_singular(*b))
+      report_singular_block(blk);
+    if (auto* as = std::get_if<Assignment>(&step)) {
+      as->origin = origin(dae_.eqs[at(sys_.eqs[at(blk.front())])].range);
+    } else {
+      for (int i : blk) std::get<EquationBlock>(step).origins.push_back(origin(dae_.eqs[at(sys_.eqs[at(i)])].range));
+    }
+    out.steps.push_back(std::move(step));
+  }
+
+  /// True if every coefficient of the linear block is a constant and the
+  /// matrix is singular: no value of the model's parameters or time can make
+  /// it solvable (equations inconsistent or redundant, `x + y = 1; x + y = 2`).
+  bool constant_singular(const EquationBlock& b) const {
+    const std::size_t n = b.unknowns.size();
+    std::vector<double> m(n * n, 0.0);
+    for (const BlockEntry& e : b.jacobian) {
+      if (!dae_.arena.is_constant(e.value)) return false;
+      m[e.row * n + e.col] = dae_.arena.constant_value(e.value);
+    }
+    for (std::size_t k = 0; k < n; ++k) {  // Gaussian elimination, partial pivoting
+      std::size_t piv = k;
+      for (std::size_t i = k + 1; i < n; ++i)
+        if (std::fabs(m[i * n + k]) > std::fabs(m[piv * n + k])) piv = i;
+      if (std::fabs(m[piv * n + k]) <= 1e-12) return true;
+      for (std::size_t j = 0; j < n; ++j) std::swap(m[k * n + j], m[piv * n + j]);
+      for (std::size_t i = k + 1; i < n; ++i) {
+        const double f = m[i * n + k] / m[k * n + k];
+        for (std::size_t j = k; j < n; ++j) m[i * n + j] -= f * m[k * n + j];
+      }
+    }
+    return false;
+  }
+
+  void report_singular_block(const std::vector<int>& blk) {
+    const auto& first = dae_.eqs[at(sys_.eqs[at(blk.front())])];
+    diags_.report(frontend::DiagId::StructurallySingular, first.range,
+                  fmt::format("these {} equations are singular: their coefficients are constants and "
+                              "linearly dependent, so they are inconsistent or redundant",
+                              blk.size()));
+    for (std::size_t i = 1; i < blk.size() && i < 10; ++i)
+      diags_.note(dae_.eqs[at(sys_.eqs[at(blk[i])])].range, "one of the dependent equations");
+  }
+
+  /// "file.mo:12:3: <the source line, trimmed>" for the equation at `r`; empty without a range.
+  std::string origin(frontend::SourceRange r) const {
+    if (!r.valid()) return {};
+    try {
+      const frontend::LineColumn lc = sources_.position(r.file, r.begin);
+      std::string line(sources_.line_text(r.file, r.begin));
+      const auto first = line.find_first_not_of(" \t");
+      line = first == std::string::npos ? "" : line.substr(first, 200);
+      return fmt::format("{}:{}:{}: {}", sources_.name(r.file), lc.line, lc.column, line);
+    } catch (const std::logic_error&) {
+      return {};  // a range from another SourceManager (models built in code)
+    }
   }
 
   void finish(OdeModel& out) {
@@ -202,6 +261,8 @@ private:
   std::unordered_map<std::size_t, std::size_t> state_of_;  ///< DaeVar → state index
   std::vector<int> state_vars_;  ///< state index → DaeVar
   std::vector<double> start_values_;  ///< per DaeVar
+  frontend::DiagnosticEngine& diags_;
+  const frontend::SourceManager& sources_;
 };
 
 /// Expression text with the internal name marker removed (for traces).
@@ -280,7 +341,10 @@ std::optional<OdeModel> lower(const frontend::flat::Model& flat,
   const auto blocks = blt_blocks(sys.incidence, m);
   if (options.trace) trace_blt(*dae, sys, m, blocks, *options.trace);
   if (stats) *stats = st;
-  return Assembler(*dae, state, sys, m).run(blocks);
+  const unsigned errors = diags.error_count();
+  OdeModel out = Assembler(*dae, state, sys, m, diags).run(blocks);
+  if (diags.error_count() > errors) return std::nullopt;
+  return out;
 }
 
 }  // namespace mo::symbolic

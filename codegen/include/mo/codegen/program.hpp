@@ -67,6 +67,9 @@ struct BlockCode {
   std::vector<Entry> entries;   ///< Jacobian entries
   int inner_section = -1;       ///< nonlinear: computes values and entries from z
   std::vector<double> start;    ///< nonlinear: first guess of z
+  std::vector<double> nominal;  ///< nonlinear: scale of each z (the variable's nominal)
+  std::vector<double> lower;    ///< nonlinear: min of each z (-inf if none)
+  std::vector<double> upper;    ///< nonlinear: max of each z (+inf if none)
   std::string description;      ///< for failure messages (model text, escape when printing)
 };
 

@@ -53,6 +53,8 @@ public:
   bool has_errors() const { return error_count_ > 0; }
   unsigned error_count() const { return error_count_; }
   const std::vector<Diagnostic> &all() const { return diags_; }
+  /// The files the diagnostics' ranges point into.
+  const SourceManager &sources() const { return sources_; }
 
   /// Prints every diagnostic in the order reported, clang style.
   void print(std::ostream &os) const;

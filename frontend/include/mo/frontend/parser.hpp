@@ -8,8 +8,9 @@
 namespace mo::frontend {
 
 struct ParseOptions {
-  /// Deepest nesting of brackets and if-expressions accepted; deeper input
-  /// gets a diagnostic instead of exhausting the stack.
+  /// Deepest expression tree accepted: brackets, if-expressions and chained
+  /// binary operators (`a - b - c` is two levels) of one statement; deeper
+  /// input gets a diagnostic instead of exhausting a later stage's stack.
   unsigned max_nesting = 1000;
 };
 

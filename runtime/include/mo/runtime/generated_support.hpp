@@ -61,6 +61,9 @@ struct NonlinearBlock {
   int num_entries;            ///< number of entries
   void (*evaluate)(double* w);  ///< computes residuals and entries from w[unknowns]
   const char* description;    ///< for messages
+  const double* nominal = nullptr;  ///< n scales |z_i| (> 0), or null: 1
+  const double* lower = nullptr;    ///< n lower bounds (min), or null: none
+  const double* upper = nullptr;    ///< n upper bounds (max), or null: none
 };
 
 /// Newton settings for nonlinear blocks.
@@ -74,19 +77,24 @@ struct NewtonOptions {
 /// Scratch and failure record of one model instance's block solves.
 struct BlockWorkspace {
   std::vector<double> a, b, z, dz;  ///< matrix and vectors, resized as needed
+  std::vector<double> scale;        ///< Newton: per-equation scale of the residual
   std::vector<int> pivots;          ///< row swaps
   double time = 0.0;                ///< model time of the current evaluation, for messages
-  std::string failure;              ///< why the last failed block failed; empty if none
+  std::string failure;              ///< why the first failed block of this evaluation failed; empty if none
   NewtonOptions newton;             ///< settings
 };
 
 /// Solves the linear block; writes z into w[unknowns]. On a singular J, sets
-/// the unknowns to NaN, records the failure in ws.failure, returns false.
+/// the unknowns to NaN, records the failure in ws.failure (unless an earlier
+/// block of the same evaluation failed first: that one is the cause), returns false.
 bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws);
 
-/// Solves the nonlinear block by damped Newton from w[unknowns]. On failure
-/// (singular J, non-finite residuals, no convergence) sets the unknowns to
-/// NaN, records why in ws.failure and returns false.
+/// Solves the nonlinear block by damped Newton from w[unknowns], in units of
+/// the unknowns' nominal values, keeping every iterate within [lower, upper]
+/// (a start outside is moved inside). On failure (singular J, non-finite
+/// residuals, no convergence) sets the unknowns to NaN, records why (with the
+/// last iterate) in ws.failure unless an earlier block failed first, and
+/// returns false.
 bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws);
 
 }  // namespace mo::runtime::generated

@@ -89,6 +89,7 @@ struct OdeOutput {
 struct Assignment {
   Expr target;
   Expr value;
+  std::string origin = {};  ///< the source equation, "file.mo:12:3: text", for messages; may be empty
 };
 
 /// One entry J(row, col) of a block's Jacobian ∂residual_row/∂unknown_col.
@@ -110,6 +111,7 @@ struct EquationBlock {
   std::vector<BlockEntry> jacobian; ///< structurally nonzero entries, row-major
   std::vector<Expr> offset;         ///< linear only: r at z = 0
   std::vector<double> start;        ///< nonlinear only: first Newton guess
+  std::vector<std::string> origins = {};  ///< per residual: its source equation (see Assignment::origin), or empty
 };
 
 /// One step of the evaluation sequence.
