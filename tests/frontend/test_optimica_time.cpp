@@ -77,8 +77,8 @@ TEST_CASE("Optimica: startTime and finalTime have their defaults in expressions"
   INFO(c.diagnostics);
   REQUIRE(c.ok());
   const std::string s = c.model->print();
-  CHECK(s.find("x(0) = 0;") != std::string::npos);
-  CHECK(s.find("v <= 1;") != std::string::npos);
+  CHECK(s.find("x(0.) = 0;") != std::string::npos);
+  CHECK(s.find("v <= 1.;") != std::string::npos);
 }
 
 TEST_CASE("Optimica: a free startTime and unknown time attributes are errors", "[flatten][optimica]") {
