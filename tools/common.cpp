@@ -83,12 +83,13 @@ BuiltModel build_model(symbolic::OdeModel& ode, unsigned jobs, const std::string
   codegen::CompilerOptions co = codegen::runtime_compiler_options();
   co.jobs = jobs;
   BuiltModel out;
-  PhaseScope phase(run, "compile", fmt::format("{} files, {} jobs", generated.sources().size(), jobs));
-  out.compiled = codegen::compile_shared_object(generated, co);
-  if (quiet) {
-  } else if (out.compiled.cached)
+  {
+    PhaseScope phase(run, "compile", fmt::format("{} files, {} jobs", generated.sources().size(), jobs));
+    out.compiled = codegen::compile_shared_object(generated, co);
+  }  // the status line is gone before the note below
+  if (!quiet && out.compiled.cached)
     std::cerr << tool << ": model cached (" << out.compiled.library << ")\n";
-  else
+  else if (!quiet)
     std::cerr << fmt::format("{}: model compiled in {:.2f} s ({} instructions, {} files)\n", tool,
                              out.compiled.seconds, generated.instructions,
                              generated.sources().size());

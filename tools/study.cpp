@@ -265,12 +265,15 @@ int design(Study& s) {
                              design_json(s.info(), d, r));
   write_designed_input(s.cli.output, s.info(), d.ocp, r.optimization);
   if (s.opt.plot || s.cli.plot) {
-    PhaseScope phase(s.cli.run, "simulate", "sensitivities under the designed input");
     plot_optimization(s.cli.output, s.info(), d.ocp, s.problem,
                       fmt::format("{}-optimal input design (n_e = {}, n_cp = {})", s.opt.criterion,
                                   d.ocp.collocation.n_e, d.ocp.collocation.n_cp));
-    if (write_design_sensitivities(s.cli.output, *s.built.model, d, r.optimization))
-      plot_design_sensitivities(s.cli.output, s.info(), d);
+    bool written = false;
+    {
+      PhaseScope phase(s.cli.run, "simulate", "sensitivities under the designed input");
+      written = write_design_sensitivities(s.cli.output, *s.built.model, d, r.optimization);
+    }
+    if (written) plot_design_sensitivities(s.cli.output, s.info(), d);
   }
   std::cerr << fmt::format("morun: {}-criterion information: {:.6g} (collocation), {:.6g} "
                            "(re-simulated)\n",
@@ -307,8 +310,10 @@ int estimation(Study& s) {
     write_estimation_outputs(s.cli.output, *s.built.model, e, r);
   }
   if (s.opt.plot || s.cli.plot) {
-    PhaseScope phase(s.cli.run, "simulate", "prediction band at the estimate");
-    write_prediction(s.cli.output, *s.built.model, e, r);
+    {
+      PhaseScope phase(s.cli.run, "simulate", "prediction band at the estimate");
+      write_prediction(s.cli.output, *s.built.model, e, r);
+    }
     plot_fit(s.cli.output, s.info(), e, r);
   }
   print_estimates(std::cerr, r);
