@@ -60,8 +60,9 @@ bool reject_events_in_study(const frontend::flat::Model& flat, const symbolic::O
           : "the relation " + symbolic::to_modelica(ode.arena, ode.zero_crossings.front()) +
                 " = 0 of an if-expression";
   const std::string message =
-      "the model switches here (" + what + ", " + std::to_string(ode.zero_crossings.size()) +
-      " event indicators): optimal control, design and estimation use a collocation that "
+      "the model switches here (" + what + "; " + std::to_string(ode.zero_crossings.size()) +
+      (ode.zero_crossings.size() == 1 ? " event indicator" : " event indicators") +
+      " in all): optimal control, design and estimation use a collocation that "
       "assumes a smooth model and would ignore this event; not supported yet (README, Known "
       "limits)";
   const auto [when, relation] = first_switch(flat);
