@@ -22,6 +22,9 @@ void Flattener::connect(const ast::Equation &eq, const Scope &s) {
   bool outside[2];
   const Expr *refs[2] = {eq.lhs.get(), eq.rhs.get()};
   for (int k = 0; k < 2; ++k) {
+    // A connection to a conditional component that is switched off is removed (4.4.5).
+    if (s.inst && disabled_.count({s.inst, refs[k]->ref.parts[0].name}))
+      return;
     if (!resolve_instances(refs[k]->ref, s, refs[k]->range, dims[k], side[k]))
       fail(DiagId::UnknownComponent, refs[k]->range,
            "unknown connector '" + refs[k]->ref.str() + "' in connect()");

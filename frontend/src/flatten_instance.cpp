@@ -195,8 +195,10 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
     fail(DiagId::Unsupported, comp.range, "'outer' components are not supported");
   if (comp.condition) {
     ast::ExprPtr c = scalar_expr(*comp.condition, here);
-    if (eval(*c, comp.condition->range) == 0)
+    if (eval(*c, comp.condition->range) == 0) {
+      disabled_.insert({&parent, comp.name}); // its connections are removed too
       return; // conditional component switched off
+    }
   }
   ResolvedType rt;
   if (!resolve_type(cls, comp.type, rt))

@@ -232,6 +232,7 @@ public:
   Tensor string_call(const ast::Expr &call, const Scope &s);
   unsigned function_depth_ = 0;
   std::set<std::pair<Instance *, ClassNode *>> inherited_; ///< bases instantiated per instance
+  std::set<std::pair<const Instance *, std::string>> disabled_; ///< conditional components switched off
 
   // -- equations and connections (flatten_equations.cpp, flatten_connect.cpp)
   void flatten_equations(Instance &inst);

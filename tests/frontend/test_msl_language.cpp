@@ -358,3 +358,27 @@ TEST_CASE("Modelica.Constants.pi with the MSL on the lookup path", "[msl][lookup
   CHECK(WEXITSTATUS(status) == 0);
   CHECK(contains(out, "parameter Real tau = 2 * 3.14159"));
 }
+
+TEST_CASE("connections to a switched-off conditional component are removed", "[msl]") {
+  std::string s = flat(R"(
+    connector Pin
+      Real v;
+      flow Real i;
+    end Pin;
+    model Ground
+      Pin p;
+    equation
+      p.v = 0;
+    end Ground;
+    model Circuit
+      parameter Boolean grounded = false;
+      Pin a;
+      Ground g if grounded;
+      Real x(start = 1, fixed = true);
+    equation
+      connect(a, g.p);
+      a.v = x;
+      der(x) = -x;
+    end Circuit;)");
+  CHECK_FALSE(contains(s, "g.p"));
+}
