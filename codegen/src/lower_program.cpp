@@ -5,6 +5,7 @@
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
+#include <utility>
 
 #include "derivatives.hpp"
 #include "mo/codegen/program.hpp"
@@ -188,8 +189,9 @@ private:
       const auto& blk = std::get<symbolic::EquationBlock>(step);
       std::string description = std::string(blk.linear ? "linear" : "nonlinear") + " block " +
                                 std::to_string(++number) + " for " + names_of(arena(), blk.unknowns);
-      for (std::size_t i = 0; i < blk.origins.size(); ++i)  // where its equations are written
-        if (!blk.origins[i].empty()) description += (i ? "\n    " : "\n  equations: ") + blk.origins[i];
+      const char* separator = "\n  equations: ";  // then where its equations are written
+      for (const std::string& origin : blk.origins)
+        if (!origin.empty()) description += std::exchange(separator, "\n    ") + origin;
       b.block(blk, description, p_.sections[static_cast<std::size_t>(p_.steps)]);
       if (!blk.linear) bounds(blk, p_.blocks.back());
     }

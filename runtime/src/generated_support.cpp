@@ -33,10 +33,11 @@ bool fail(const char* description, const int* unknowns, Size n, double* w, Block
           const std::string& why) {
   for (Size i = 0; i < n; ++i) w[unknowns[i]] = std::numeric_limits<double>::quiet_NaN();
   // The first failure of an evaluation is the cause; later blocks only see its NaN.
-  // The description's first line names the block; later lines list its equations.
+  // The description names the block, then (after the last "\n  equations: ",
+  // which names cannot end with) lists its equations' source lines.
   if (ws.failure.empty()) {
     const std::string_view d(description);
-    const auto eol = std::min(d.find('\n'), d.size());
+    const auto eol = std::min(d.rfind("\n  equations: "), d.size());
     ws.failure = fmt::format("{} at t = {}: {}{}", d.substr(0, eol), ws.time, why, d.substr(eol));
   }
   return false;
