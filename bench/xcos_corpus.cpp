@@ -80,9 +80,11 @@ std::vector<std::string> aux_files(const std::string& corpus, const std::string&
   return files;
 }
 
-/// modelicat names a scalarised array element `a.[2]`, mocompile `a[2]`.
+/// modelicat names a scalarised array element `a.[2]` (a matrix element
+/// `a.[1].[2]`), mocompile `a[2]` (`a[1,2]`).
 std::string scalar_name(std::string name) {
   for (std::size_t k; (k = name.find(".[")) != std::string::npos;) name.erase(k, 1);
+  for (std::size_t k; (k = name.find("][")) != std::string::npos;) name.replace(k, 2, ",");
   return name;
 }
 
