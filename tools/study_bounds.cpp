@@ -43,11 +43,12 @@ void add_bound_constraints(flat::Model& m, ProblemOutputs& out) {
     y.causality = ast::Causality::Output;
     y.range = v.range;
     y.description = "min/max of " + v.name + ", added by mocompile for the optimization problem";
+    const auto range = v.range;  // m.add may move the variables: `v` dangles after it
     const std::int32_t index = m.add(std::move(y));
     ast::Equation eq;
     eq.kind = ast::EquationKind::Simple;
-    eq.range = v.range;
-    eq.lhs = ast::make_ref(c.output, v.range);
+    eq.range = range;
+    eq.lhs = ast::make_ref(c.output, range);
     eq.lhs->var = index;
     eq.rhs = std::move(ref);
     m.equations.push_back(std::move(eq));
