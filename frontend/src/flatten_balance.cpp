@@ -7,10 +7,7 @@
 
 namespace mo::frontend::detail {
 
-namespace {
-
-/// Marks every variable referenced in `eq`.
-void mark_uses(const ast::Equation &eq, std::vector<char> &used) {
+void equation_uses(const ast::Equation &eq, std::vector<std::int32_t> &out) {
   std::vector<const ast::Expr *> work;
   std::vector<const ast::Equation *> eqs{&eq};
   while (!eqs.empty()) {
@@ -26,10 +23,19 @@ void mark_uses(const ast::Equation &eq, std::vector<char> &used) {
   while (!work.empty()) {
     const ast::Expr *x = work.back();
     work.pop_back();
-    if (x->var >= 0) used[x->var] = 1;
+    if (x->var >= 0) out.push_back(x->var);
     for (const auto &a : x->args)
       if (a) work.push_back(a.get());
   }
+}
+
+namespace {
+
+/// Marks every variable referenced in `eq`.
+void mark_uses(const ast::Equation &eq, std::vector<char> &used) {
+  std::vector<std::int32_t> vars;
+  equation_uses(eq, vars);
+  for (const std::int32_t v : vars) used[v] = 1;
 }
 
 bool has_unknown(const ast::Equation &eq, const flat::Model &m) {

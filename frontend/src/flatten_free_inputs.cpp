@@ -21,29 +21,6 @@ namespace mo::frontend::detail {
 
 namespace {
 
-/// Marks every variable referenced in `eq` (bodies and conditions too).
-void uses(const ast::Equation &eq, std::vector<std::int32_t> &out) {
-  std::vector<const ast::Expr *> work;
-  std::vector<const ast::Equation *> eqs{&eq};
-  while (!eqs.empty()) {
-    const ast::Equation *e = eqs.back();
-    eqs.pop_back();
-    if (e->lhs) work.push_back(e->lhs.get());
-    if (e->rhs) work.push_back(e->rhs.get());
-    for (const auto &b : e->branches) {
-      if (b.condition) work.push_back(b.condition.get());
-      for (const auto &x : b.body) eqs.push_back(&x);
-    }
-  }
-  while (!work.empty()) {
-    const ast::Expr *x = work.back();
-    work.pop_back();
-    if (x->var >= 0) out.push_back(x->var);
-    for (const auto &a : x->args)
-      if (a) work.push_back(a.get());
-  }
-}
-
 /// Maximum bipartite matching by breadth-first augmenting paths (no
 /// recursion). rows[r] lists the columns row r may take.
 class Matching {
@@ -105,7 +82,7 @@ std::vector<std::vector<std::int32_t>> balance_rows(const flat::Model &m) {
     const std::size_t n = flat::equation_count(eq);
     if (n == 0) continue;
     std::vector<std::int32_t> vars;
-    uses(eq, vars);
+    equation_uses(eq, vars);
     std::sort(vars.begin(), vars.end());
     vars.erase(std::unique(vars.begin(), vars.end()), vars.end());
     std::erase_if(vars, [&](std::int32_t v) { return !m.variables[static_cast<std::size_t>(v)].is_unknown(); });

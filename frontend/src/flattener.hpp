@@ -50,6 +50,10 @@ namespace detail {
 
 struct Instance;
 
+/// Appends the index of every variable referenced in `eq`, its branches'
+/// conditions and bodies included (repeats possible; iterative, no recursion).
+void equation_uses(const ast::Equation &eq, std::vector<std::int32_t> &out);
+
 /// A merged modification tree: outer modifications override inner ones.
 /// A binding is flattened in the scope of the instance that wrote it.
 struct Modifier {
