@@ -3,7 +3,7 @@
 // named `finalTime` of the flat model. The objective and the constraints
 // refer to it (flatten_expr.cpp resolves `finalTime` there); the study tools
 // rescale time so that the horizon [startTime, finalTime] is τ ∈ [0, 1]
-// (tools/study_time_scaling.cpp).
+// (studies/study_time_scaling.cpp).
 #include "flattener.hpp"
 
 #include <fmt/format.h>
