@@ -180,12 +180,29 @@ bool compared_column(const Reference& ref, const std::string& name) {
   return false;
 }
 
-/// A column's scale: its range (or 1e-3 of its magnitude when nearly constant).
-double scale_of(const std::vector<double>& v) {
+/// The largest magnitude over the reference's compared columns: what the
+/// model's signals are made of.
+double model_magnitude(const Reference& ref) {
+  double m = 0.0;
+  for (std::size_t j = 0; j < ref.table.names.size(); ++j)
+    if (compared_column(ref, ref.table.names[j]))
+      for (double x : ref.table.columns[j]) m = std::max(m, std::abs(x));
+  return m;
+}
+
+/// A column's scale: its range (or 1e-3 of its magnitude when nearly
+/// constant), but never below what the reference resolves: Scilab integrated
+/// to rtol·M + atol (M the model's largest signal), so a column that is zero
+/// up to that noise (a force that cancels, 1e-10 against signals of 1) is
+/// compared to that accuracy, not to its own noise (tol of the scale is then
+/// rtol·M + atol).
+double scale_of(const Reference& ref, const std::vector<double>& v, double tol) {
   const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
   double magnitude = 0.0;
   for (double x : v) magnitude = std::max(magnitude, std::abs(x));
-  return std::max({*hi - *lo, 1e-3 * magnitude, 1e-12});
+  const double resolved = (ref.meta.value("rtol", 1e-6) * model_magnitude(ref) +
+                           ref.meta.value("atol", 1e-6)) / tol;
+  return std::max({*hi - *lo, 1e-3 * magnitude, resolved, 1e-12});
 }
 
 /// The first reference row where our runs at two tolerances (`got` and
@@ -199,7 +216,7 @@ std::size_t predictable_rows(const Reference& ref, const runtime::ResultTable& g
     if (!compared_column(ref, name)) continue;
     const auto a = column(got, name), b = column(fine, name);
     if (!a || !b || b->size() != a->size()) continue;
-    const double scale = scale_of(ref.table.columns[j]);
+    const double scale = scale_of(ref, ref.table.columns[j], tol);
     for (std::size_t k = 1; k < rows; ++k)
       if (std::abs((*a)[k + 1] - (*b)[k + 1]) / scale > tol / 2) rows = k;
   }
@@ -223,7 +240,7 @@ StepResult compare(const Reference& ref, const runtime::ResultTable& got, const 
       continue;
     }
     const auto& theirs = ref.table.columns[j];
-    const double scale = scale_of(theirs);
+    const double scale = scale_of(ref, theirs, tol);
     for (std::size_t k = 1; k + 1 < n; ++k) {
       const double e = std::abs((*mine)[k + 1] - theirs[k]) / scale;  // row 0 of ours is t = 0
       if (!(e <= worst)) {
