@@ -121,10 +121,21 @@ void plot_design_sensitivities(const std::string& dir, const runtime::ModelInfo&
   render_figure(f, dir, "sensitivities");
 }
 
-bool write_prediction(const std::string& dir, runtime::Model& model, const runtime::EstimationProblem& e,
-                      const runtime::EstimationResult& r) {
+namespace {
+
+/// "NAME.csv" for experiment 1, "NAME_<k>.csv" for experiment k ≥ 2 (the
+/// numbering of fit.csv's experiment column).
+std::string per_experiment(const std::string& dir, const std::string& name, std::size_t k,
+                           const std::string& extension) {
+  return path_in(dir, (k == 1 ? name : fmt::format("{}_{}", name, k)) + extension);
+}
+
+/// One experiment's prediction file; false if its simulation fails.
+bool write_experiment_prediction(const std::string& file, runtime::Model& model,
+                                 const runtime::EstimationProblem& e,
+                                 const runtime::EstimationExperiment& ex,
+                                 const runtime::EstimationResult& r) {
   const runtime::ModelInfo& info = model.info();
-  const runtime::EstimationExperiment& ex = e.experiments.front();
   if (ex.data.times.empty()) return false;
   std::vector<std::size_t> params;
   for (const auto& fp : e.parameters) params.push_back(fp.parameter);
@@ -157,28 +168,28 @@ bool write_prediction(const std::string& dir, runtime::Model& model, const runti
     }
     t.add_row(sim.trajectory.times()[k], row);
   }
-  runtime::write_csv_atomic(path_in(dir, "prediction.csv"), t);
+  runtime::write_csv_atomic(file, t);
   return true;
 }
 
-void plot_fit(const std::string& dir, const runtime::ModelInfo& info, const runtime::EstimationProblem& e,
-              const runtime::EstimationResult& r) {
-  const auto& outs = e.experiments.front().data.outputs;
+/// The fit figure of experiment k (1-based): measurements from fit.csv
+/// (rows whose experiment column is k), the prediction and its band.
+void plot_experiment_fit(const std::string& dir, const runtime::ModelInfo& info,
+                         const runtime::EstimationProblem& e, const std::string& estimate,
+                         std::size_t k) {
+  const auto& outs = e.experiments.front().data.outputs;  // fit.csv's columns
   const std::size_t n = outs.size();
-  const std::string fit = path_in(dir, "fit.csv"), prediction = path_in(dir, "prediction.csv");
-  const bool have_prediction = fs::exists(prediction);
-  std::string estimate;
-  for (std::size_t k = 0; k < r.estimate.size(); ++k)
-    estimate += fmt::format("{}{} = {:.5g}", k ? ", " : "", r.names[k], r.estimate[k]);
+  const std::string fit = path_in(dir, "fit.csv"), prediction = per_experiment(dir, "prediction", k, ".csv");
+  const bool have_prediction = fs::exists(prediction) && e.experiments[k - 1].data.outputs == outs;
   Figure f;
   f.title = fmt::format("{}: measurements and the model at the estimate ({}){}", info.name, estimate,
-                        e.experiments.size() > 1 ? ", experiment 1" : "");
+                        e.experiments.size() > 1 ? fmt::format(", experiment {}", k) : "");
   for (std::size_t c = 0; c < n; ++c) {
     const auto& y = info.outputs[outs[c]];
     Panel p;
     p.ylabel = axis_label(y.name, y.unit);
     Series data{fit, 1, 0, 0, y.name + " measured", SeriesStyle::points, {}};
-    data.y_expr = fmt::format("($2 == 1 ? ${} : NaN)", c + 3 + n);
+    data.y_expr = fmt::format("($2 == {} ? ${} : NaN)", k, c + 3 + n);
     if (have_prediction) {
       p.series.push_back({prediction, 1, 3 * c + 3, 3 * c + 4,
                           fmt::format("{:g} % confidence band", 100 * e.confidence), SeriesStyle::band, {}});
@@ -187,12 +198,31 @@ void plot_fit(const std::string& dir, const runtime::ModelInfo& info, const runt
     } else {
       p.series.push_back(data);
       Series model{fit, 1, 0, 0, y.name + " model", SeriesStyle::line, {}};
-      model.y_expr = fmt::format("($2 == 1 ? ${} : NaN)", c + 3);
+      model.y_expr = fmt::format("($2 == {} ? ${} : NaN)", k, c + 3);
       p.series.push_back(model);
     }
     f.panels.push_back(std::move(p));
   }
-  render_figure(f, dir, "fit");
+  render_figure(f, dir, k == 1 ? "fit" : fmt::format("fit_{}", k));
+}
+
+}  // namespace
+
+bool write_prediction(const std::string& dir, runtime::Model& model, const runtime::EstimationProblem& e,
+                      const runtime::EstimationResult& r) {
+  bool all = !e.experiments.empty();
+  for (std::size_t k = 0; k < e.experiments.size(); ++k)
+    all = write_experiment_prediction(per_experiment(dir, "prediction", k + 1, ".csv"), model, e,
+                                      e.experiments[k], r) && all;
+  return all;
+}
+
+void plot_fit(const std::string& dir, const runtime::ModelInfo& info, const runtime::EstimationProblem& e,
+              const runtime::EstimationResult& r) {
+  std::string estimate;
+  for (std::size_t k = 0; k < r.estimate.size(); ++k)
+    estimate += fmt::format("{}{} = {:.5g}", k ? ", " : "", r.names[k], r.estimate[k]);
+  for (std::size_t k = 1; k <= e.experiments.size(); ++k) plot_experiment_fit(dir, info, e, estimate, k);
 }
 
 }  // namespace mo::tools

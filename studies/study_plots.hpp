@@ -5,7 +5,7 @@
 //                 dotted, bounds dashed, end-point targets marked), inputs
 //   design        + sensitivities.csv / sensitivities: ∂y/∂p of the measured
 //                 outputs under the designed input (CVODES)
-//   estimation    prediction.csv / fit: measurements as points, the model at
+//   estimation    prediction[_k].csv / fit[_k], per experiment: measurements as points, the model at
 //                 the estimate as a line, its confidence band (t · sqrt(s Cov sᵀ))
 #pragma once
 
@@ -35,15 +35,16 @@ bool write_design_sensitivities(const std::string& dir, runtime::Model& model,
 void plot_design_sensitivities(const std::string& dir, const runtime::ModelInfo& info,
                                const runtime::InputDesignProblem& d);
 
-/// DIR/prediction.csv: for the first experiment on 500 intervals, each
-/// measured output at the estimate with the lower and upper edge of its
-/// confidence band (no band if the covariance is missing). False if the
-/// simulation fails.
+/// DIR/prediction.csv (experiment 1) and DIR/prediction_<k>.csv (experiment
+/// k ≥ 2): on 500 intervals, each measured output at the estimate with the
+/// lower and upper edge of its confidence band (no band if the covariance is
+/// missing). False if a simulation fails (the others are still written).
 bool write_prediction(const std::string& dir, runtime::Model& model, const runtime::EstimationProblem& e,
                       const runtime::EstimationResult& r);
 
-/// DIR/fit.{png,svg}: per measured output, the first experiment's
-/// measurements (points, from fit.csv), the prediction and its band.
+/// DIR/fit.{png,svg} (experiment 1) and DIR/fit_<k>.{png,svg} (experiment
+/// k ≥ 2): per measured output, the experiment's measurements (points, from
+/// fit.csv), the prediction and its band.
 void plot_fit(const std::string& dir, const runtime::ModelInfo& info, const runtime::EstimationProblem& e,
               const runtime::EstimationResult& r);
 

@@ -165,10 +165,17 @@ TEST_CASE("report: estimation and Monte-Carlo summaries have timings; the fit ha
                 quoted(input) + " -o " + quoted((dir / "data").string()),
             dir);
   REQUIRE(r.status == 0);
-  const std::string data = "data={\"" + (dir / "data" / "measurements.csv").string() + "\"}";
+  // A second experiment with another input: each experiment gets its figure.
+  r = morun(kOde + " -c CartPendulumODE --stop-time 5 --intervals 100 --measure y_x,y_phi --noise 0.01 --seed 2"
+                   " --input F=sine:3,1 -o " + quoted((dir / "data2").string()),
+            dir);
+  REQUIRE(r.status == 0);
+  const std::string data = "data={\"" + (dir / "data" / "measurements.csv").string() + "\", \"" +
+                           (dir / "data2" / "measurements.csv").string() + "\"}";
   r = morun_env("MO_PROGRESS_SECONDS=0.05",
                 quoted(kCart + "CartPendulumEstimate.opt") + " -L " + kOde + " -o " + quoted((dir / "est").string()) +
-                    " --plot --option n_e=50 --option " + quoted(data) + " --option " + quoted("inputs={\"" + input + "\"}"),
+                    " --plot --option n_e=50 --option " + quoted(data) + " --option " +
+                    quoted("inputs={\"" + input + "\", \"F=sine:3,1\"}"),
                 dir);
   INFO(r.err);
   REQUIRE(r.status == 0);
@@ -178,6 +185,11 @@ TEST_CASE("report: estimation and Monte-Carlo summaries have timings; the fit ha
   CHECK(fit.find("y_x [m]") != std::string::npos);
   CHECK(fit.find("y_phi [rad]") != std::string::npos);
   CHECK(fit.find("measured") != std::string::npos);
+  CHECK(fit.find("experiment 1") != std::string::npos);
+  const std::string fit2 = slurp(dir / "est" / "fit_2.svg");
+  CHECK(fit2.find("experiment 2") != std::string::npos);
+  CHECK(fit2.find("95 % confidence band") != std::string::npos);
+  CHECK(fs::exists(dir / "est" / "prediction_2.csv"));
   // The band has width: lower < upper edge somewhere in prediction.csv.
   std::ifstream pred(dir / "est" / "prediction.csv");
   std::string line;
