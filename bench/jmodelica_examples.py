@@ -8,7 +8,7 @@ the example asserts. JModelica's files are read from a checkout given as an
 argument (they are not part of mocompile):
 
     bench/jmodelica_examples.py JMODELICA_DIR [--morun build/tools/morun] [--msl MSL_DIR]
-                                [--only NAME...]
+                                [--only NAME...] [--timeout SECONDS]
 
 Prints one line per example: `reached`, `missed` (solved, other optimum),
 `failed` (morun's first error) or `not run` (what the example needs that has
@@ -97,7 +97,7 @@ def first_error(text):
     return lines[-1].strip() if lines else "no output"
 
 
-def run(example, files, morun, scratch, msl):
+def run(example, files, morun, scratch, msl, timeout):
     if "skip" in example:
         return "not run", example["skip"]
     out = os.path.join(scratch, example["name"])
@@ -108,7 +108,10 @@ def run(example, files, morun, scratch, msl):
         cmd += ["-L", os.path.join(msl, "Modelica")]
     for opt in ["plot=false"] + example["options"]:
         cmd += ["--option", opt]
-    p = subprocess.run(cmd, capture_output=True, text=True)
+    try:
+        p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        return "failed", f"stopped after the time limit of {timeout} s (--timeout)"
     if not os.path.exists(os.path.join(out, "summary.json")):
         return "failed", first_error(p.stderr)
     got = []
@@ -126,6 +129,7 @@ def main():
     ap.add_argument("jmodelica", help="a checkout of github.com/JModelica/JModelica")
     ap.add_argument("--morun", default=os.path.join(os.path.dirname(__file__), "..", "build", "tools", "morun"))
     ap.add_argument("--only", nargs="*", help="run only these examples")
+    ap.add_argument("--timeout", type=float, default=600, help="seconds per example (default 600)")
     ap.add_argument("--msl", help="the Modelica Standard Library 3.2.2 (a directory holding Modelica/), "
                     "for the examples that use it (marked msl)")
     args = ap.parse_args()
@@ -137,7 +141,7 @@ def main():
         for ex in EXAMPLES:
             if args.only and ex["name"] not in args.only:
                 continue
-            status, detail = run(ex, files, os.path.abspath(args.morun), scratch, args.msl)
+            status, detail = run(ex, files, os.path.abspath(args.morun), scratch, args.msl, args.timeout)
             reached += status == "reached"
             note = f" [{ex['note']}]" if "note" in ex else ""
             print(f"{ex['name']:26s} {status:8s} {detail}{note}", flush=True)

@@ -29,11 +29,14 @@ targets=()
 for stage in "${stages[@]}"; do targets+=("fuzz_$stage"); done
 cmake --build "$build" --target "${targets[@]}" -j "$(nproc)"
 seeds=$build/seeds
+max_len=8192
 rm -rf "$seeds" && mkdir -p "$seeds"
 i=0
 while IFS= read -r -d '' f; do
-  # keep seeds small so mutations stay fast
-  if [ "$(stat -c %s "$f")" -le 65536 ]; then cp "$f" "$seeds/seed_$i.mo"; i=$((i + 1)); fi
+  # seeds no longer than the inputs libFuzzer makes (-max_len): a larger one
+  # is truncated anyway, and parsing 64 KB seeds at start-up took the whole
+  # time budget (1-3 executions a second)
+  if [ "$(stat -c %s "$f")" -le "$max_len" ]; then cp "$f" "$seeds/seed_$i.mo"; i=$((i + 1)); fi
 done < <(find "$root/modelica" "$root/tests" \( -name '*.mo' -o -name '*.mop' -o -name '*.opt' \) -print0)
 each=$(( seconds / ${#stages[@]} ))
 [ "$each" -ge 1 ] || each=1
@@ -43,7 +46,7 @@ for stage in "${stages[@]}"; do
   corpus=$build/corpus/$stage crashes=$build/crashes/$stage
   mkdir -p "$corpus" "$crashes"
   echo "== fuzz_$stage"
-  if ! "$build/fuzz/fuzz_$stage" -max_total_time="$each" -max_len=8192 -timeout=10 \
+  if ! "$build/fuzz/fuzz_$stage" -max_total_time="$each" -max_len="$max_len" -timeout=10 \
     -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$crashes/" "$corpus" "$seeds" \
     >"$build/fuzz_$stage.log" 2>&1; then
     status=1
