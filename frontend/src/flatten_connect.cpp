@@ -163,6 +163,7 @@ void Flattener::finish_connections() {
     model_->equations.push_back(std::move(eq));
   }
   if (!diags_.has_errors()) {
+    drop_repeated_equations();
     when_assignments_to_reinits();
     mark_free_inputs();
   }

@@ -278,6 +278,9 @@ public:
   /// The variable of a free final time, or -1 (finalTime fixed).
   std::int32_t free_final_time_ = -1;
   void check_balance();
+  /// A simple equation identical to an earlier one (either side order) is
+  /// dropped with a warning (flatten_repeated.cpp).
+  void drop_repeated_equations();
   /// Inputs no equation defines become inputs of the model (flatten_free_inputs.cpp).
   void mark_free_inputs();
   /// `v = e` in a when-clause with der(v) elsewhere becomes reinit(v, e) (flatten_free_inputs.cpp).

@@ -190,3 +190,27 @@ TEST_CASE("the AST dump (--emit ast) shows the parsed tree", "[parser]") {
   REQUIRE(sd);
   CHECK(ast::dump(*sd) == "within P\nmodel M \"doc\"\n  component parameter Real k(min = 0) = 1\n  equation\n    k = k\n");
 }
+
+TEST_CASE("a repeated equation is counted once, with a warning at the repetition", "[flatten]") {
+  const char *src = R"(model R
+  Real delta(start = 0);
+  Real d;
+  input Real u;
+equation
+  delta = d;
+  der(delta) = u - delta;
+  d = delta;
+end R;
+)";
+  Compiled c = compile_text(src);
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  CHECK(c.model->print().find("d = delta") == std::string::npos);
+  CHECK(c.diagnostics.find("8:3: warning: this equation repeats an earlier one; it is counted once") !=
+        std::string::npos);
+  CHECK(c.diagnostics.find("6:3: note: the earlier equation") != std::string::npos);
+  // Equations that differ are both kept (and then the model is unbalanced).
+  Compiled other = compile_text("model S\n  Real x;\nequation\n  x = 1;\n  x = 2;\nend S;\n");
+  CHECK(!other.ok());
+  CHECK(other.diagnostics.find("unbalanced") != std::string::npos);
+}
