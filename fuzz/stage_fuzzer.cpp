@@ -1,7 +1,7 @@
 // libFuzzer targets, one per pipeline stage (MO_FUZZ_STAGE selects it):
 //
 //   1 parse     bytes → AST
-//   2 flatten   bytes → AST → flat::Model          (MoLib loaded as a library)
+//   2 flatten   bytes → AST → flat::Model          (MoLib loaded when named)
 //   3 lower     ... → OdeModel (print_ode too)
 //   4 cpp       ... → generated C++ text (not compiled)
 //
@@ -48,7 +48,9 @@ void run(const std::string &text) {
   if (MO_FUZZ_STAGE < 2 || !sd || sd->classes.empty()) return;
   const std::string name = sd->classes.back()->name;
   frontend::Library lib;
-  if (!library_text().empty()) {
+  // MoLib only for inputs that name it: parsing it costs more than most
+  // inputs, and every execution would pay for it.
+  if (text.find("MoLib") != std::string::npos && !library_text().empty()) {
     frontend::DiagnosticEngine lib_diags(sources);
     if (auto molib = frontend::parse(sources.add("MoLib.mo", library_text()), sources, lib_diags))
       lib.add(std::move(molib));

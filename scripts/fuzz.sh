@@ -46,7 +46,7 @@ for stage in "${stages[@]}"; do
   corpus=$build/corpus/$stage crashes=$build/crashes/$stage
   mkdir -p "$corpus" "$crashes"
   echo "== fuzz_$stage"
-  if ! "$build/fuzz/fuzz_$stage" -max_total_time="$each" -max_len="$max_len" -timeout=10 \
+  if ! "$build/fuzz/fuzz_$stage" -max_total_time="$each" -max_len="$max_len" -timeout=30 \
     -rss_limit_mb=4096 -print_final_stats=1 -artifact_prefix="$crashes/" "$corpus" "$seeds" \
     >"$build/fuzz_$stage.log" 2>&1; then
     status=1
