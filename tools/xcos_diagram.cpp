@@ -132,7 +132,7 @@ std::string log_tail(const fs::path& log, std::size_t n) {
   std::string out;
   for (std::size_t i = kept.size() > n ? kept.size() - n : 0; i < kept.size(); ++i)
     out += "  | " + kept[i].substr(0, 400) + "\n";
-  return out;
+  return out.empty() ? "  (nothing)\n" : out;
 }
 
 /// The one file in `dir` whose name ends in `suffix`, or empty.

@@ -1,0 +1,70 @@
+// Issue 14, diagrams in, without Scilab: the diagnostics when Scilab is
+// missing, fails or hangs (a stand-in program plays Scilab), and that the
+// temporary folder is removed in every case.
+#include <catch2/catch.hpp>
+
+#include <chrono>
+
+#include "e2e/diagram_cli.hpp"
+
+using namespace mo::e2e;
+
+namespace {
+
+const fs::path kData = fs::path(MO_TEST_DATA_DIR) / "xcos";
+
+/// Runs mocompile on the test diagram with `env`, TMPDIR in the scratch folder.
+Run compile_diagram(const std::string& name, std::vector<std::string> env, std::vector<std::string> args = {}) {
+  const fs::path dir = scratch(name);
+  fs::create_directories(dir / "tmp");
+  env.push_back("TMPDIR=" + (dir / "tmp").string());
+  args.insert(args.begin(), (kData / "SeriesRLC.zcos").string());
+  Run r = run_tool(kMocompile, args, dir, env);
+  CHECK(fs::is_empty(dir / "tmp"));  // the private work folder is gone
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("diagram without Scilab: the diagnostic says what to install", "[diagram]") {
+  const Run r = compile_diagram("diagram-no-scilab", {"MO_SCILAB=", "PATH=/nonexistent"});
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("SeriesRLC.zcos: error: reading an Xcos diagram needs Scilab") != std::string::npos);
+  CHECK(r.err.find("apt-get install scilab xvfb xauth") != std::string::npos);
+  CHECK(r.err.find("MO_SCILAB") != std::string::npos);
+}
+
+TEST_CASE("diagram with MO_SCILAB naming no program: error", "[diagram]") {
+  const Run r = compile_diagram("diagram-bad-mo-scilab", {"MO_SCILAB=/nonexistent/scilab"});
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("MO_SCILAB='/nonexistent/scilab' is not an executable program") != std::string::npos);
+}
+
+TEST_CASE("diagram with a Scilab that does nothing: error, with what it printed", "[diagram]") {
+  const Run r = compile_diagram("diagram-scilab-fails", {"MO_SCILAB=/bin/true", "DISPLAY=:0", "PATH=/usr/bin:/bin"});
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("SeriesRLC.zcos: error: Scilab stopped before compiling the diagram") != std::string::npos);
+}
+
+TEST_CASE("diagram with a Scilab that hangs: stopped at --scilab-timeout", "[diagram]") {
+  const auto start = std::chrono::steady_clock::now();
+  const Run r = compile_diagram("diagram-scilab-hangs", {"MO_SCILAB=" + (kData / "hanging-scilab.sh").string(), "DISPLAY=:0"},
+                                {"--scilab-timeout", "1"});
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("Scilab did not finish compiling the diagram within 1 s and was stopped") != std::string::npos);
+  CHECK(seconds < 20.0);
+}
+
+TEST_CASE("diagram: --scilab-lib must be a folder", "[diagram]") {
+  const Run r = compile_diagram("diagram-bad-lib", {}, {"--scilab-lib", "/nonexistent/coselica"});
+  CHECK(r.status == 2);
+  const Run env = compile_diagram("diagram-bad-lib-env", {"MO_SCILAB=/bin/true", "MO_SCILAB_LIBS=/nonexistent/coselica"});
+  INFO(env.err);
+  CHECK(env.status == 1);
+  CHECK(env.err.find("block library '/nonexistent/coselica' is not a folder") != std::string::npos);
+}
