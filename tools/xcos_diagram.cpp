@@ -135,6 +135,13 @@ std::string log_tail(const fs::path& log, std::size_t n) {
   return out.empty() ? "  (nothing)\n" : out;
 }
 
+/// True when the log says that xvfb-run could not start its X server.
+bool xvfb_failed(const fs::path& log) {
+  for (const auto& line : read_lines(log))
+    if (line.find("Xvfb failed to start") != std::string::npos) return true;
+  return false;
+}
+
 /// The one file in `dir` whose name ends in `suffix`, or empty.
 fs::path file_ending(const fs::path& dir, const std::string& suffix) {
   std::error_code ec;
@@ -233,7 +240,11 @@ std::unique_ptr<ExtractedDiagram> extract_flat_model(const std::string& diagram,
   run.log_file = (work.path() / "scilab.log").string();
   run.done_file = (work.path() / "done").string();
   run.timeout_seconds = options.timeout_seconds;
-  const ChildResult result = run_child(run);
+  ChildResult result = run_child(run);
+  // xvfb-run -a picks a free display number racily: when several start at
+  // once one of them may find its display taken. Start again (twice at most).
+  for (int retry = 0; retry < 2 && !fs::exists(work.path() / "status.txt") && xvfb_failed(run.log_file); ++retry)
+    result = run_child(run);
   check_outcome(diagram, work.path(), result, options);
   fs::path flat = file_ending(work.path() / "out", "_imf.mo");
   fs::path init = file_ending(work.path() / "out", "_imf_init.xml");
