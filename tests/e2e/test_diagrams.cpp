@@ -207,3 +207,26 @@ TEST_CASE("a Coselica diagram with --scilab-lib: flat model equals the corpus's"
   }
   check_corpus_flat("MassWithoutFriction", {"--scilab-lib", coselica});
 }
+
+TEST_CASE("a diagram title with shell syntax is reduced to a plain name", "[diagram][scilab]") {
+  REQUIRE_SCILAB();
+  const fs::path dir = scratch("diagram-hostile-title");
+  const fs::path marker = dir / "pwned";
+  // Scilab's translator runs a shell line that holds "<title>_im": a title
+  // that closes the quotes would run a command there (checked: without
+  // mocompile's renaming, Scilab itself runs `touch pwned`). mocompile runs in DIR.
+  std::string xml = slurp(kData / "SeriesRLC.xcos");
+  const std::string title = "title=\"SeriesRLC\"";
+  REQUIRE(xml.find(title) != std::string::npos);
+  xml.replace(xml.find(title), title.size(),
+              "title=\"x&quot;; touch pwned; echo &quot;$(touch " + marker.string() + ")\"");
+  const fs::path diagram = dir / "Hostile.xcos";
+  std::ofstream(diagram) << xml;
+  const Run r = run_tool(kMocompile, {diagram.string(), "--save-flat", (dir / "flat").string()}, dir);
+  INFO(r.err);
+  CHECK(r.status == 0);
+  CHECK(!fs::exists(marker));
+  const std::string flat = slurp(only_file(dir / "flat", "_imf.mo"));
+  CHECK(flat.rfind("class x___touch_pwned__echo____touch_", 0) == 0);
+  CHECK(noted_inputs(r.err) == std::vector<std::string>{"InPutPort1.vi"});
+}
