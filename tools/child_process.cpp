@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <csignal>
+#include <iterator>
 #include <cstring>
 #include <optional>
 #include <thread>
@@ -18,6 +20,31 @@ namespace mo::tools {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+volatile std::sig_atomic_t g_signal = 0;  // set by on_signal while run_child waits
+
+extern "C" void on_signal(int signal) { g_signal = signal; }
+
+/// Routes SIGINT, SIGTERM and SIGHUP to on_signal for its lifetime.
+class SignalGuard {
+public:
+  SignalGuard() {
+    g_signal = 0;
+    struct sigaction action {};
+    action.sa_handler = on_signal;
+    sigemptyset(&action.sa_mask);
+    for (std::size_t i = 0; i < std::size(kSignals); ++i) ::sigaction(kSignals[i], &action, &previous_[i]);
+  }
+  ~SignalGuard() {
+    for (std::size_t i = 0; i < std::size(kSignals); ++i) ::sigaction(kSignals[i], &previous_[i], nullptr);
+  }
+  SignalGuard(const SignalGuard&) = delete;
+  SignalGuard& operator=(const SignalGuard&) = delete;
+
+private:
+  static constexpr int kSignals[] = {SIGINT, SIGTERM, SIGHUP};
+  struct sigaction previous_[std::size(kSignals)] {};
+};
 
 double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
@@ -92,6 +119,7 @@ ChildResult run_child(const ChildRun& run) {
   std::vector<char*> argv = pointers(args);
   std::vector<char*> envp = pointers(env);
   const auto start = Clock::now();
+  SignalGuard signals;
   const pid_t pid = ::fork();
   if (pid < 0) {
     result.exit_status = 127;
@@ -113,6 +141,11 @@ ChildResult run_child(const ChildRun& run) {
     if (done_at && seconds_since(*done_at) > run.grace_seconds) {
       stop_group(pid);
       result.outcome = ChildOutcome::stopped_done;
+      break;
+    }
+    if (g_signal != 0) {
+      stop_group(pid);
+      result.outcome = ChildOutcome::interrupted;
       break;
     }
     if (seconds_since(start) > run.timeout_seconds) {

@@ -26,6 +26,7 @@ enum class ChildOutcome {
   exited,        ///< it exited by itself (status in `exit_status`, -1 when killed by a signal)
   stopped_done,  ///< it wrote the done file and was stopped after the grace time
   timed_out,     ///< the time limit passed; it was killed
+  interrupted,   ///< this process got SIGINT, SIGTERM or SIGHUP; the child was killed
   not_started,   ///< fork or exec failed (`exit_status` 127)
 };
 
@@ -36,7 +37,10 @@ struct ChildResult {
 };
 
 /// Runs `run`, waits for it (polling every 100 ms) and reaps every process of
-/// its group that it kills. Never throws for the child's failures.
+/// its group that it kills. While it waits, SIGINT, SIGTERM and SIGHUP stop
+/// the child's group (which is not in the terminal's foreground group) and
+/// return `interrupted`; the previous handlers are restored on return. Never
+/// throws for the child's failures.
 ChildResult run_child(const ChildRun& run);
 
 }  // namespace mo::tools

@@ -162,6 +162,7 @@ std::string joined(const std::vector<std::string>& names, std::size_t from) {
 /// Turns what Scilab left in `work` into an error message, or returns when it succeeded.
 void check_outcome(const std::string& diagram, const fs::path& work, const ChildResult& run,
                    const DiagramOptions& options) {
+  if (run.outcome == ChildOutcome::interrupted) fail(diagram, "interrupted; Scilab was stopped");
   const auto status = read_lines(work / "status.txt");
   const fs::path log = work / "scilab.log";
   if (status.empty()) {

@@ -68,3 +68,24 @@ TEST_CASE("diagram: --scilab-lib must be a folder", "[diagram]") {
   CHECK(env.status == 1);
   CHECK(env.err.find("block library '/nonexistent/coselica' is not a folder") != std::string::npos);
 }
+
+TEST_CASE("diagram: SIGTERM to mocompile stops Scilab and removes the temporary folder", "[diagram]") {
+  const fs::path dir = scratch("diagram-sigterm");
+  fs::create_directories(dir / "tmp");
+  const fs::path err = dir / "stderr.txt";
+  // The stand-in Scilab sleeps 60 s; mocompile is terminated after 1 s.
+  const std::string cmd = "cd " + quoted(dir.string()) + " && { env TMPDIR=" + quoted((dir / "tmp").string()) +
+                          " MO_SCILAB=" + quoted((kData / "hanging-scilab.sh").string()) + " DISPLAY=:0 " +
+                          quoted(kMocompile) + " " + quoted((kData / "SeriesRLC.zcos").string()) + " 2>" +
+                          quoted(err.string()) + " & pid=$!; sleep 1; kill -TERM $pid; wait $pid; }";
+  const auto start = std::chrono::steady_clock::now();
+  const int raw = std::system(cmd.c_str());
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const std::string text = slurp(err);
+  INFO(text);
+  CHECK(WIFEXITED(raw));
+  CHECK(WEXITSTATUS(raw) == 1);
+  CHECK(text.find("SeriesRLC.zcos: error: interrupted; Scilab was stopped") != std::string::npos);
+  CHECK(seconds < 20.0);
+  CHECK(fs::is_empty(dir / "tmp"));
+}
