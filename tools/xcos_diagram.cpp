@@ -180,6 +180,10 @@ void check_outcome(const std::string& diagram, const fs::path& work, const Child
                       ". They come from a block library (e.g. Coselica): install it with Scilab's toolbox "
                       "manager (in Scilab: atomsInstall(\"coselica\")), or give the folder where it is with "
                       "--scilab-lib DIR (or MO_SCILAB_LIBS=DIR[:DIR...])");
+  if (status[0] == "no-modelica")
+    fail(diagram, "the diagram has no Modelica blocks: mocompile takes a diagram's Modelica part (blocks of "
+                  "Scilab's Electrical, Thermo-hydraulics and Modelica palettes, or of Coselica), and this one "
+                  "has none");
   if (status[0] == "unsafe-name") fail(diagram, joined(status, 1) + "; it is not compiled");
   std::string message = "Scilab could not compile the diagram: " + joined(status, 1) + "\n";
   for (const auto* name : {"S_translator.err"})

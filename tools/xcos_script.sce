@@ -6,7 +6,8 @@
 // Everything comes from the environment and from files in the private work
 // folder MO_XCOS_WORK; nothing of the diagram or of a path is pasted into
 // Scilab code. The work folder receives:
-//   status.txt  first line ok | missing-blocks | unsafe-name | error, then details
+//   status.txt  first line ok | missing-blocks | no-modelica | unsafe-name | error,
+//               then details
 //   out/        the files the translator wrote (<title>_im.mo, <title>_imf.mo, ...)
 //   done        written last: mocompile stops Scilab once it exists
 // Input files: diagram.zcos or diagram.xcos (MO_XCOS_DIAGRAM names it),
@@ -164,6 +165,8 @@ try
     missing = mo_missing(guis);
     if missing <> [] then
         status = ["missing-blocks"; missing];
+    elseif models == [] then
+        status = "no-modelica";
     elseif ~mo_plain(models) then
         status = ["unsafe-name"; "a Modelica block names a model that is not a plain Modelica name"];
     else

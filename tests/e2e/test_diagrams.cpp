@@ -230,3 +230,12 @@ TEST_CASE("a diagram title with shell syntax is reduced to a plain name", "[diag
   CHECK(flat.rfind("class x___touch_pwned__echo____touch_", 0) == 0);
   CHECK(noted_inputs(r.err) == std::vector<std::string>{"InPutPort1.vi"});
 }
+
+TEST_CASE("a diagram without Modelica blocks: error", "[diagram][scilab]") {
+  REQUIRE_SCILAB();
+  const fs::path dir = scratch("diagram-no-modelica");
+  const Run r = run_tool(kMocompile, {(kData / "NoModelica.zcos").string()}, dir);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("NoModelica.zcos: error: the diagram has no Modelica blocks") != std::string::npos);
+}

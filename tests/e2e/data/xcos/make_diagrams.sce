@@ -2,7 +2,7 @@
 // plain XML) of tests/e2e/data/xcos from Scilab's own blocks: a series RLC
 // circuit (Electrical palette) driven through a controlled voltage source
 // (CVS) by a constant block (CONST_m, not Modelica): mocompile makes that
-// signal an input of the model.
+// signal an input of the model. Also NoModelica.zcos (below).
 // Run: MO_OUT=DIR xvfb-run -a scilab -nw -nb -f make_diagrams.sce < /dev/null
 mode(-1);
 lines(0);
@@ -66,5 +66,10 @@ for k = 1:size(links)
 end
 xcosDiagramToScilab(getenv("MO_OUT") + "/SeriesRLC.zcos", scs_m);
 xcosDiagramToScilab(getenv("MO_OUT") + "/SeriesRLC.xcos", scs_m);  // the same, plain XML
+// NoModelica.zcos: one constant block and nothing of Modelica (mocompile refuses it).
+scs_m = scicos_diagram();
+scs_m.props.title = "NoModelica";
+scs_m.objs(1) = mo_place(CONST_m("define"), 60, 100);
+xcosDiagramToScilab(getenv("MO_OUT") + "/NoModelica.zcos", scs_m);
 mputl("done", getenv("MO_OUT") + "/made");
 exit(0);
