@@ -101,9 +101,11 @@ std::vector<std::string> library_folders(const std::string& diagram, const Diagr
   }
   for (auto& folder : all) {
     if (!fs::is_directory(folder)) fail(diagram, "block library '" + folder + "' is not a folder");
-    if (folder.find_first_of("\r\n") != std::string::npos)
-      fail(diagram, "block library folder names with line breaks are not supported");
     folder = fs::absolute(folder).lexically_normal().string();
+    // libraries.txt has one folder a line; Scilab's translator puts the folders in a shell line.
+    if (folder.find_first_of("\r\n\"'`$\\") != std::string::npos)
+      fail(diagram, "block library folder '" + folder + "': names with line breaks, quotes, ` $ or \\ are not "
+                    "supported (Scilab's translator puts them in a shell command)");
   }
   return all;
 }

@@ -67,6 +67,12 @@ TEST_CASE("diagram: --scilab-lib must be a folder", "[diagram]") {
   INFO(env.err);
   CHECK(env.status == 1);
   CHECK(env.err.find("block library '/nonexistent/coselica' is not a folder") != std::string::npos);
+  const fs::path odd = scratch("diagram-odd-lib") / "lib\"$(touch x)";
+  fs::create_directories(odd);
+  const Run quote = compile_diagram("diagram-odd-lib-run", {"MO_SCILAB=/bin/true"}, {"--scilab-lib", odd.string()});
+  INFO(quote.err);
+  CHECK(quote.status == 1);
+  CHECK(quote.err.find("names with line breaks, quotes, ` $ or \\ are not supported") != std::string::npos);
 }
 
 TEST_CASE("diagram: SIGTERM to mocompile stops Scilab and removes the temporary folder", "[diagram]") {
