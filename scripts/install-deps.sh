@@ -4,7 +4,20 @@
 # and its component libraries (Electrical.mo, Hydraulics.mo) into
 # $MO_SCILAB_DIR (default /opt/mocompile/scilab): the tests use them as the
 # reference flattener. No Java, no GUI: modelicat needs only libc.
+#
+# --with-scilab also installs Debian's Scilab (with Java, about 1 GB) and
+# xvfb-run, which mocompile runs to read Xcos diagrams (.zcos, .xcos); the
+# test command (scripts/test.sh) uses it for the diagram tests. The main job
+# does not need it.
 set -euo pipefail
+
+with_scilab=0
+for arg in "$@"; do
+  case "$arg" in
+    --with-scilab) with_scilab=1 ;;
+    *) echo "install-deps: unknown option $arg (known: --with-scilab)" >&2; exit 2 ;;
+  esac
+done
 
 packages=(
   build-essential cmake ninja-build ccache pkg-config
@@ -13,6 +26,11 @@ packages=(
   gnuplot-nox jq clang-14 libclang-rt-14-dev
   chromium  # the test that opens report.html headless
 )
+if [ "$with_scilab" = 1 ]; then
+  # Scilab itself (launcher, Java GUI libraries, Xcos, the Modelica translator
+  # and libraries) and a virtual X server to run it without a window.
+  packages+=(scilab scilab-cli scilab-full-bin scilab-data xvfb xauth)
+fi
 
 missing=()
 for p in "${packages[@]}"; do

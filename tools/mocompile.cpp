@@ -8,6 +8,7 @@
 #include "mo/runtime/result.hpp"
 #include "mo/symbolic/lower.hpp"
 #include "pipeline.hpp"
+#include "diagram_cli.hpp"
 
 #include <CLI/CLI.hpp>
 
@@ -32,6 +33,8 @@ struct Options {
   std::string cpp_name = "mo_model";       // --emit cpp: namespace and file stem
   std::vector<std::string> sensitivities;  // --emit ode|trace|cpp: parameters
   std::size_t cpp_files = 0;               // --emit cpp: exact number of part files (0: as needed)
+  mo::tools::DiagramOptions diagram;       // FILE is an Xcos diagram: how to run Scilab
+  bool from_diagram = false;               // input is the flat file Scilab wrote for it
 };
 
 /// Lowers, printing the stage trace for --emit trace, and appends the
@@ -98,6 +101,9 @@ int run(const Options &opt) {
       diags.print(std::cerr);
       return 1;
     }
+    if (opt.from_diagram)
+      if (const auto note = mo::tools::diagram_inputs_note(*model, "mocompile"); !note.empty())
+        std::cerr << note << "\n";
     if (opt.emit == "flat") {
       text = model->print();
     } else {
@@ -137,7 +143,9 @@ int main(int argc, char **argv) {
                "Reads hierarchical Modelica, Optimica and the flat Modelica that Scilab/Xcos writes."};
   app.set_version_flag("--version", "mocompile 0.1.0");
   Options opt;
-  app.add_option("file", opt.input, "Modelica file (.mo, .mop, .opt) holding the class to compile")
+  app.add_option("file", opt.input,
+                 "Modelica file (.mo, .mop, .opt) holding the class to compile, or an Xcos diagram "
+                 "(.zcos, .xcos: compiled to flat Modelica by Scilab first)")
       ->required()
       ->check(CLI::ExistingFile);
   app.add_option("-c,--class", opt.class_name,
@@ -167,6 +175,7 @@ int main(int argc, char **argv) {
   app.add_flag("--no-balance-check", opt.no_balance_check,
                "Do not check that the model has as many equations as unknowns");
   app.add_option("--max-errors", opt.max_errors, "Stop listing errors after this many")->capture_default_str();
+  mo::tools::add_diagram_options(app, opt.diagram);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -178,8 +187,17 @@ int main(int argc, char **argv) {
     std::cerr << "mocompile: error: --emit cpp needs -o DIR\n";
     return 2;
   }
+  std::unique_ptr<mo::tools::ExtractedDiagram> diagram;  // its temporary folder lives until the end
   try {
+    if (mo::tools::is_diagram_file(opt.input)) {
+      diagram = mo::tools::extract_flat_model(opt.input, opt.diagram);
+      opt.input = diagram->flat_file().string();
+      opt.from_diagram = true;
+    }
     return run(opt);
+  } catch (const mo::tools::DiagramError &e) {
+    std::cerr << e.what() << "\n";
+    return 1;
   } catch (const std::exception &e) {
     std::cerr << "mocompile: internal error: " << e.what() << "\n";
     return 3;

@@ -30,6 +30,7 @@
 #include "progress.hpp"
 #include "result_columns.hpp"
 #include "study.hpp"
+#include "diagram_cli.hpp"
 
 namespace fs = std::filesystem;
 using namespace mo;
@@ -54,6 +55,8 @@ struct Options {
   bool aliases = false;              // accepted for compatibility: result.csv has every variable
   std::string variables;             // regular expression selecting result.csv's columns
   bool quiet = false;                // no progress on stderr
+  tools::DiagramOptions diagram;     // FILE is an Xcos diagram: how to run Scilab
+  bool from_diagram = false;         // source.file is the flat file Scilab wrote for it
 };
 
 using tools::number;
@@ -149,6 +152,8 @@ int run(const Options& opt, tools::RunContext& ctx) {
     diags.print(std::cerr);
     return 1;
   }
+  if (opt.from_diagram)
+    if (const auto note = tools::diagram_inputs_note(*flat, "morun"); !note.empty()) std::cerr << note << "\n";
   if (flat->optimization) {
     for (const auto& [given, flag] : {std::pair{opt.stop_time > 0, "--stop-time"},
                                       {!opt.input_specs.empty(), "--input"},
@@ -253,7 +258,9 @@ int main(int argc, char** argv) {
                "DIR/summary.json."};
   app.set_version_flag("--version", "morun 0.1.0");
   Options opt;
-  app.add_option("file", opt.source.file, "Modelica file holding the class")->required()->check(CLI::ExistingFile);
+  app.add_option("file", opt.source.file,
+                 "Modelica file holding the class, or an Xcos diagram (.zcos, .xcos: compiled to flat "
+                 "Modelica by Scilab first)")->required()->check(CLI::ExistingFile);
   app.add_option("-c,--class", opt.source.class_name, "Class to simulate (default: the last class in FILE)");
   app.add_option("-L,--library", opt.source.libs, "Library file or directory (repeatable)")->check(CLI::ExistingPath);
   app.add_option("--stop-time", opt.stop_time, "Final time (start is 0); required for a model, not for a study")
@@ -286,6 +293,7 @@ int main(int argc, char** argv) {
   app.add_option("--seed", opt.seed, "Seed of the --noise generator")->capture_default_str();
   app.add_option("--rtol", opt.rtol, "Relative tolerance")->capture_default_str();
   app.add_option("--atol", opt.atol, "Absolute tolerance (scaled by nominal values)")->capture_default_str();
+  tools::add_diagram_options(app, opt.diagram);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -302,8 +310,20 @@ int main(int argc, char** argv) {
   tools::RunContext ctx;
   ctx.progress = &progress;
   opt.study.run = &ctx;
+  std::unique_ptr<tools::ExtractedDiagram> diagram;  // its temporary folder lives until the end
   try {
+    if (tools::is_diagram_file(opt.source.file)) {
+      opt.diagram.tool = "morun";
+      opt.diagram.quiet = true;  // the progress line shows the "diagram" stage
+      tools::PhaseScope phase(&ctx, "diagram", opt.source.file);
+      diagram = tools::extract_flat_model(opt.source.file, opt.diagram);
+      opt.source.file = diagram->flat_file().string();
+      opt.from_diagram = true;
+    }
     return run(opt, ctx);
+  } catch (const tools::DiagramError& e) {
+    std::cerr << e.what() << "\n";
+    return 1;
   } catch (const UsageError& e) {
     std::cerr << "morun: error: " << e.what() << "\n";
     return 2;

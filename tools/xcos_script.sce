@@ -1,0 +1,193 @@
+// mocompile's Scilab script: compiles an Xcos diagram the way Xcos does
+// (importXcosDiagram, xcos_compile), without a window, and stops once
+// Scilab's Modelica translator (modelicat) has written the flat model: the
+// C code generator modelicac is replaced by a function that records that.
+//
+// Everything comes from the environment and from files in the private work
+// folder MO_XCOS_WORK; nothing of the diagram or of a path is pasted into
+// Scilab code. The work folder receives:
+//   status.txt  first line ok | missing-blocks | no-modelica | unsafe-name | error,
+//               then details
+//   out/        the files the translator wrote (<title>_im.mo, <title>_imf.mo, ...)
+//   done        written last: mocompile stops Scilab once it exists
+// Input files: diagram.zcos or diagram.xcos (MO_XCOS_DIAGRAM names it),
+// libraries.txt (one block-library folder a line, maybe empty).
+mode(-1);
+lines(0);
+funcprot(0);
+mo_work = getenv("MO_XCOS_WORK");
+
+// The compile ends in a modal message box, which would block a windowless run.
+function r = messagebox(varargin)
+    r = 1;
+    for k = 1:size(varargin)
+        a = varargin(k);
+        if type(a) == 10 then
+            mprintf("messagebox: %s\n", strcat(a, " "));
+        end
+    end
+endfunction
+
+// Called by compile_modelica right after the translator succeeded.
+function ok = modelicac(varargin)
+    mputl("translated", getenv("MO_XCOS_WORK") + "/translated");
+    ok = %f;
+endfunction
+
+function mo_finish(status)
+    w = getenv("MO_XCOS_WORK");
+    mputl(status, w + "/status.txt");
+    mputl("done", w + "/done");
+endfunction
+
+// A block library folder: an installed (built) toolbox has loader.sce,
+// executed by the caller; in a source folder, the folders holding .sci files
+// (loaded with getd by the caller: functions defined in a function would
+// vanish with it) and those holding .mo files (Modelica libraries).
+function [loader, sci_dirs, mo_dirs] = mo_library(d)
+    loader = "";
+    sci_dirs = [];
+    mo_dirs = [];
+    if isfile(d + "/loader.sce") then
+        loader = d + "/loader.sce";
+        return;
+    end
+    pending = d;
+    while size(pending, "*") > 0
+        dir = pending(1);
+        pending(1) = [];
+        if findfiles(dir, "*.sci") <> [] then
+            sci_dirs = [sci_dirs; dir];
+        end
+        if findfiles(dir, "*.mo") <> [] then
+            mo_dirs = [mo_dirs; dir];
+        end
+        entries = findfiles(dir);
+        for k = 1:size(entries, "*")
+            if isdir(dir + "/" + entries(k)) then
+                pending = [pending; dir + "/" + entries(k)];
+            end
+        end
+    end
+endfunction
+
+// The interface functions of every block and the Modelica models of the
+// Modelica blocks, superblocks included (a walk with a stack, no recursion).
+function [guis, models] = mo_blocks(diagram)
+    guis = [];
+    models = [];
+    stack = list(diagram);
+    while size(stack) > 0
+        d = stack(1);
+        stack(1) = null();
+        for k = 1:size(d.objs)
+            o = d.objs(k);
+            if typeof(o) <> "Block" then
+                continue;
+            end
+            guis = [guis; o.gui];
+            if typeof(o.model.rpar) == "diagram" then
+                stack($ + 1) = o.model.rpar;
+            end
+            if typeof(o.model.equations) == "modelica" then
+                models = [models; o.model.equations.model];
+            end
+        end
+    end
+endfunction
+
+function missing = mo_missing(guis)
+    missing = [];
+    for k = 1:size(guis, "*")
+        if ~isdef(guis(k)) then
+            missing = [missing; guis(k)];
+        end
+    end
+    missing = unique(missing);
+endfunction
+
+// Scilab's translator runs a shell command holding the title and the
+// Modelica model names: only plain names go through.
+function ok = mo_plain(names)
+    ok = %t;
+    for k = 1:size(names, "*")
+        if isempty(regexp(names(k), "/^[A-Za-z_][A-Za-z0-9_.]*$/")) then
+            ok = %f;
+        end
+    end
+endfunction
+
+function title = mo_safe_title(title)
+    title = strsubst(stripblanks(title), "/[^A-Za-z0-9_]/", "_", "r");
+    if title == "" then
+        title = "diagram";
+    end
+    if ~isempty(regexp(title, "/^[0-9]/")) then
+        title = "_" + title;
+    end
+endfunction
+
+status = "error";
+try
+    loadXcosLibs();
+    loadScicos();
+    libraries = mgetl(mo_work + "/libraries.txt");
+    for k = 1:size(libraries, "*")
+        if libraries(k) == "" then
+            continue;
+        end
+        [mo_loader, mo_sci_dirs, mo_mo_dirs] = mo_library(libraries(k));
+        if mo_loader <> "" then
+            exec(mo_loader, -1);
+        end
+        for j = 1:size(mo_sci_dirs, "*")
+            getd(mo_sci_dirs(j));
+        end
+        global %MODELICA_USER_LIBS;
+        %MODELICA_USER_LIBS = [%MODELICA_USER_LIBS; mo_mo_dirs];
+    end
+    if ~importXcosDiagram(mo_work + "/" + getenv("MO_XCOS_DIAGRAM")) then
+        error("Scilab could not read the diagram");
+    end
+    [guis, models] = mo_blocks(scs_m);
+    if mo_missing(guis) <> [] then
+        // Toolboxes installed with Scilab's toolbox manager (ATOMS), loaded
+        // here at the top level so that their functions stay defined.
+        try
+            mo_installed = atomsGetInstalled();
+            if mo_installed <> [] then
+                atomsLoad(unique(mo_installed(:, 1)));
+            end
+        catch
+            mprintf("mocompile: loading the ATOMS toolboxes failed: %s\n", lasterror());
+        end
+    end
+    missing = mo_missing(guis);
+    if missing <> [] then
+        status = ["missing-blocks"; missing];
+    elseif models == [] then
+        status = "no-modelica";
+    elseif ~mo_plain(models) then
+        status = ["unsafe-name"; "a Modelica block names a model that is not a plain Modelica name"];
+    else
+        scs_m.props.title(1) = mo_safe_title(scs_m.props.title(1));
+        try
+            [cpr, ok] = xcos_compile(scs_m);
+        catch
+            mprintf("mocompile: xcos_compile stopped: %s\n", lasterror());
+        end
+        files = [findfiles(TMPDIR, "*_im*"); findfiles(TMPDIR, "*.err")];
+        for k = 1:size(files, "*")
+            copyfile(TMPDIR + "/" + files(k), mo_work + "/out/" + files(k));
+        end
+        if isfile(mo_work + "/translated") then
+            status = "ok";
+        else
+            status = ["error"; "Scilab''s Modelica translator did not write a flat model"];
+        end
+    end
+catch
+    status = ["error"; lasterror()];
+end
+mo_finish(status);
+exit(0);
