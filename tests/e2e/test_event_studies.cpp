@@ -1,7 +1,8 @@
 // Optimal control on models with events by multi-phase collocation (issue 15,
 // item 3; docs/events.md): the ball's gravity that reaches h(0.8) = 0.5 with
 // the bounce, checked against the analytic solution and the re-simulation; an
-// input on the same ball; a mode sequence that changes at the optimum and is
+// input on the same ball; a diode-like if-expression (7 phases) and a
+// discrete brake mode set by a when-clause; a mode sequence that changes at the optimum and is
 // rebuilt; Zeno behaviour and a when-condition it does not take, refused at
 // the when-clause.
 #include <nlohmann/json.hpp>
@@ -123,4 +124,34 @@ TEST_CASE("Zeno behaviour and a compound when-condition are refused at the when-
   CHECK(compound.status == 1);
   CHECK(compound.err.find("BallCompound.mop:11:3: error: when v < 0 and h < 0") != std::string::npos);
   CHECK(!fs::exists(dir / "compound" / "summary.json"));
+}
+
+TEST_CASE("relations of the equations and discrete modes are frozen per phase", "[events][studies]") {
+  const fs::path dir = scratch("event_study_modes");
+  SECTION("a diode-like if-expression switches six times") {
+    const Run r = run_study("DiodeControl.mop", dir / "diode", dir);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const json s = summary(dir / "diode");
+    CHECK(s["status"] == "success");
+    CHECK(s["events"]["phases"] == 7);
+    CHECK(s["events"]["mode_sequence_held"] == true);
+    CHECK(double(s["events"]["max_relative_state_difference"]) < 1e-4);
+    CHECK(double(s["events"]["max_switch_time_difference"]) < 1e-6);
+    const auto resim = rows(dir / "diode" / "resimulated.csv");
+    REQUIRE(!resim.empty());
+    CHECK(resim.back()[1] == Approx(0.1).margin(1e-5));  // vc(3) of CVODES at the optimum
+  }
+  SECTION("a brake mode set by a when-clause and read by an if-expression") {
+    const Run r = run_study("BrakeControl.mop", dir / "brake", dir);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const json s = summary(dir / "brake");
+    CHECK(s["status"] == "success");
+    CHECK(s["events"]["phases"] == 2);
+    CHECK(double(s["events"]["max_relative_state_difference"]) < 1e-4);
+    const auto resim = rows(dir / "brake" / "resimulated.csv");
+    REQUIRE(!resim.empty());
+    CHECK(resim.back()[1] == Approx(2.5).margin(1e-5));  // x(4) of CVODES at the optimum
+  }
 }
