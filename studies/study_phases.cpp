@@ -11,6 +11,7 @@
 #include "study_internal.hpp"
 #include "study_output.hpp"
 #include "study_phases.hpp"
+#include "study_phases_internal.hpp"
 #include "study_plots.hpp"
 
 namespace mo::tools {
@@ -26,12 +27,6 @@ constexpr int kMaxAttempts = 3;           ///< solves with an updated mode seque
 constexpr double kStateTolerance = 1e-3;
 /// A re-simulated switch must lie this fraction of the horizon from the collocation's.
 constexpr double kTimeTolerance = 1e-3;
-
-/// The current guess on physical time: all base parameters, one signal per control.
-struct Guess {
-  std::vector<double> parameters;
-  std::vector<std::shared_ptr<const runtime::InputSignal>> controls;
-};
 
 Guess initial_guess(const runtime::OptimalControlProblem& P) {
   Guess g;
@@ -56,11 +51,16 @@ runtime::Inputs guess_inputs(const Guess& g, const runtime::OptimalControlProble
   return runtime::Inputs(std::move(signals));
 }
 
+}  // namespace
+
 /// The multi-phase problem on s ∈ [0, 1] for the stacked model.
 runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProblem& P, const PhasedModel& pm,
                                               const ModeSequence& seq, const Guess& g,
                                               const runtime::ModelInfo& base, double min_gap) {
   const std::size_t K = pm.phases;
+  std::vector<double> guess_times{P.t0};
+  for (const auto& b : pm.layout.boundaries) guess_times.push_back(b.time);
+  guess_times.push_back(P.tf);
   runtime::OptimalControlProblem Q;
   Q.t0 = 0.0;
   Q.tf = 1.0;
@@ -69,25 +69,25 @@ runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProbl
       runtime::FreeControl fc = c;
       fc.input = pm.input(k, c.input);
       const std::size_t index = static_cast<std::size_t>(&c - P.controls.data());
-      fc.initial_guess = phase_time_signal(g.controls[index], seq.modes[k].start, seq.modes[k].end);
+      fc.initial_guess = phase_time_signal(g.controls[index], guess_times[k], guess_times[k + 1]);
       Q.controls.push_back(std::move(fc));
     }
   for (const auto& [input, signal] : P.fixed_inputs)
     for (std::size_t k = 0; k < K; ++k)
-      Q.fixed_inputs[pm.input(k, input)] = phase_time_signal(signal, seq.modes[k].start, seq.modes[k].end);
+      Q.fixed_inputs[pm.input(k, input)] = phase_time_signal(signal, guess_times[k], guess_times[k + 1]);
   Q.parameters = g.parameters;
   for (const auto& sw : seq.switches) Q.parameters.push_back(sw.time);
-  for (const auto& sw : seq.switches) Q.parameters.insert(Q.parameters.end(), sw.states_after.begin(), sw.states_after.end());
+  for (const auto& b : pm.layout.boundaries) Q.parameters.insert(Q.parameters.end(), b.states_after.begin(), b.states_after.end());
   for (auto fp : P.free_parameters) {
     fp.initial_guess = g.parameters[fp.parameter];
     Q.free_parameters.push_back(fp);
   }
-  for (std::size_t k = 0; k + 1 < K; ++k)
+  for (std::size_t k = 0; k < pm.switch_time.size(); ++k)
     Q.free_parameters.push_back({pm.switch_time[k], {P.t0, P.tf}, seq.switches[k].time});
   for (std::size_t k = 0; k + 1 < K; ++k)
     for (std::size_t i = 0; i < pm.nx; ++i)
       Q.free_parameters.push_back({pm.phase_start[k] + i, {base.states[i].min, base.states[i].max},
-                                   seq.switches[k].states_after[i]});
+                                   pm.layout.boundaries[k].states_after[i]});
   for (const auto& [i, b] : P.state_bounds)
     for (std::size_t k = 0; k < K; ++k) Q.state_bounds[pm.state(k, i)] = b;
   for (const auto& m : P.mayer) Q.mayer.push_back({pm.output(K - 1, m.output), m.weight});
@@ -108,22 +108,35 @@ runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProbl
                                    "finalTime only", c.time));
   }
   for (const auto& f : P.final_state) Q.final_state.push_back({pm.state(K - 1, f.state), f.bounds});
-  for (std::size_t k = 0; k + 1 < K; ++k) {
-    Q.point_constraints.push_back({pm.indicator_output[k], 1.0, {0.0, 0.0}});
+  for (std::size_t o : pm.indicator_output) Q.point_constraints.push_back({o, 1.0, {0.0, 0.0}});
+  for (std::size_t k = 0; k + 1 < K; ++k)
     for (std::size_t i = 0; i < pm.nx; ++i) Q.point_constraints.push_back({pm.jump_output[k] + i, 1.0, {0.0, 0.0}});
-  }
   for (std::size_t o : pm.length_output) Q.path_constraints.push_back({o, {min_gap, runtime::Bounds{}.hi}});
   Q.collocation = P.collocation;
   Q.solver = P.solver;
   return Q;
 }
 
-/// The phases' switching times τ_0 = t0 < τ_1 < ... < τ_K = tf at the solution.
-std::vector<double> switch_times(const PhasedModel& pm, const runtime::OptimizationResult& r, double t0, double tf) {
+/// The phases' boundaries τ_0 = t0 < τ_1 < ... < τ_K = tf at the solution.
+std::vector<double> boundary_times(const PhasedModel& pm, const runtime::OptimizationResult& r, double t0, double tf) {
   std::vector<double> taus{t0};
-  for (std::size_t p : pm.switch_time) taus.push_back(p < r.parameters.size() ? r.parameters[p] : std::nan(""));
+  for (const auto& b : pm.layout.boundaries) {
+    if (!b.switch_index) {
+      taus.push_back(b.time);
+      continue;
+    }
+    const std::size_t p = pm.switch_time[*b.switch_index];
+    taus.push_back(p < r.parameters.size() ? r.parameters[p] : std::nan(""));
+  }
   taus.push_back(tf);
   return taus;
+}
+
+/// The switching times at the solution, one per switch.
+std::vector<double> solved_switch_times(const PhasedModel& pm, const runtime::OptimizationResult& r) {
+  std::vector<double> out;
+  for (std::size_t p : pm.switch_time) out.push_back(p < r.parameters.size() ? r.parameters[p] : std::nan(""));
+  return out;
 }
 
 /// The solution on physical time for the base model: trajectories, element
@@ -168,14 +181,6 @@ runtime::OptimizationResult physical_result(const PhasedModel& pm, const runtime
   return R;
 }
 
-/// The re-simulation of the base model at the optimum against the collocation.
-struct EventCheck {
-  std::optional<ModeSequence> modes;  ///< the re-simulation's mode sequence
-  std::string failure;                ///< why there is none
-  bool same_modes = false;
-  double max_relative = 0.0;          ///< largest state difference / the state's scale
-  double max_switch_shift = 0.0;      ///< largest |τ_sim − τ_coll|
-};
 
 double state_scale(const runtime::OptimizationResult& R, const runtime::ModelInfo& info, std::size_t i) {
   double scale = info.states[i].nominal;
@@ -185,7 +190,7 @@ double state_scale(const runtime::OptimizationResult& R, const runtime::ModelInf
 
 EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& ode, const RelationMap& rel,
                               const ModeSequence& seq, const runtime::OptimalControlProblem& Pphys,
-                              runtime::OptimizationResult& R, const std::vector<double>& taus, double min_gap) {
+                              runtime::OptimizationResult& R, const std::vector<double>& switches, double min_gap) {
   EventCheck c;
   const runtime::ModelInfo& info = model.info();
   const runtime::Inputs inputs = runtime::optimal_inputs(Pphys, R, info.inputs.size());
@@ -199,7 +204,7 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
   c.same_modes = same_modes(seq, *rec.sequence, rel);
   if (c.same_modes)
     for (std::size_t k = 0; k < seq.switches.size(); ++k)
-      c.max_switch_shift = std::max(c.max_switch_shift, std::abs(rec.sequence->switches[k].time - taus[k + 1]));
+      c.max_switch_shift = std::max(c.max_switch_shift, std::abs(rec.sequence->switches[k].time - switches[k]));
   runtime::SimulationOptions so;
   so.relative_tolerance = 1e-10;
   so.absolute_tolerance = 1e-10;
@@ -209,7 +214,7 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
   R.check.message = sim.message;
   R.check.resimulated = runtime::ResultTable(R.trajectories.names());
   const double window = std::max(min_gap, 10.0 * c.max_switch_shift);
-  std::vector<double> near = taus;
+  std::vector<double> near = switches;
   if (c.modes)
     for (const auto& sw : c.modes->switches) near.push_back(sw.time);
   std::vector<double> scales;
@@ -221,7 +226,7 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
     std::copy_n(sim.trajectory.row(j).begin(), nx, row.begin());
     inputs.evaluate(t, std::span<double>(row).subspan(nx));
     R.check.resimulated.add_row(t, row);
-    const bool at_switch = std::any_of(near.begin() + 1, near.end() - 1, [&](double s) { return std::abs(t - s) <= window; });
+    const bool at_switch = std::any_of(near.begin(), near.end(), [&](double s) { return std::abs(t - s) <= window; });
     if (at_switch) continue;
     for (std::size_t i = 0; i < nx; ++i) {
       const double diff = std::abs(sim.trajectory.at(j, i) - R.trajectories.at(j, i));
@@ -237,7 +242,7 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
   return c;
 }
 
-std::string describe(const symbolic::OdeModel& ode, const ModeSequence& seq) {
+std::string describe_modes(const symbolic::OdeModel& ode, const ModeSequence& seq) {
   std::string out;
   for (const auto& sw : seq.switches)
     out += fmt::format("{}{} {} at t = {:.6g}", out.empty() ? "" : ", ", symbolic::to_modelica(ode.arena, ode.zero_crossings[sw.indicator]),
@@ -258,21 +263,44 @@ nlohmann::json sequence_json(const symbolic::OdeModel& ode, const ModeSequence& 
   return a;
 }
 
-int refuse(const frontend::flat::Model& flat, const PhaseRefusal& r, frontend::DiagnosticEngine& diags) {
+int refuse_phases(const frontend::flat::Model& flat, const PhaseRefusal& r, frontend::DiagnosticEngine& diags) {
   diags.report(frontend::DiagId::BadOptimization, event_source(flat, r.when),
                r.message + "; optimal control on this model is refused (docs/events.md)");
   diags.print(std::cerr);
   return 1;
 }
 
-}  // namespace
+std::string event_status(const runtime::OptimizationResult& R, const EventCheck& check, bool same, double time_tol,
+                         double state_tol) {
+  const bool times_hold = check.max_switch_shift <= time_tol;
+  return !R.ok()                                     ? std::string(runtime::to_string(R.status))
+         : !check.failure.empty() || !check.modes    ? "resimulation_failed"
+         : !same                                     ? "mode_sequence_changed"
+         : !times_hold || check.max_relative > state_tol ? "resimulation_mismatch"
+                                                         : std::string(runtime::to_string(R.status));
+}
+
+nlohmann::json events_json(const symbolic::OdeModel& ode, const ModeSequence& seq, const EventCheck& check,
+                           std::size_t phases, int attempt, const std::vector<double>& switches, bool same,
+                           double time_tol, double state_tol) {
+  return {{"phases", phases},
+          {"attempts", attempt},
+          {"mode_sequence", sequence_json(ode, seq)},
+          {"switch_times", switches},
+          {"resimulated_mode_sequence", check.modes ? sequence_json(ode, *check.modes) : nlohmann::json()},
+          {"mode_sequence_held", same},
+          {"max_switch_time_difference", check.max_switch_shift},
+          {"switch_time_tolerance", time_tol},
+          {"max_relative_state_difference", check.max_relative},
+          {"state_tolerance", state_tol}};
+}
 
 int optimal_control_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt,
                                 ProblemOutputs problem, symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags) {
   if (problem.free_final_time)
     throw UsageError("a free finalTime on a model with events is not supported (docs/events.md)");
   const RelationMap rel = match_relations(ode);
-  if (auto r = check_event_constructs(ode, rel)) return refuse(flat, *r, diags);
+  if (auto r = check_event_constructs(ode, rel)) return refuse_phases(flat, *r, diags);
   Study s{flat, cli, std::move(opt), std::move(problem), build_model(ode, cli.jobs, "morun", cli.run, cli.quiet)};
   const runtime::ModelInfo& info = s.info();
   const runtime::OptimalControlProblem P = base_problem(s);
@@ -288,15 +316,15 @@ int optimal_control_with_events(frontend::flat::Model& flat, const StudyCli& cli
   for (int attempt = 1; attempt <= kMaxAttempts; ++attempt) {
     const runtime::Inputs inputs = guess_inputs(guess, P, info.inputs.size());
     ModeRecording rec = record_modes(*s.built.model, ode, rel, inputs, guess.parameters, P.t0, P.tf, kMaxSwitches, min_gap);
-    if (rec.refusal) return refuse(flat, *rec.refusal, diags);
+    if (rec.refusal) return refuse_phases(flat, *rec.refusal, diags);
     if (!rec.sequence) {
       std::cerr << "morun: error: the simulation of the guess failed: " << rec.simulation_failure << "\n";
       return 1;
     }
     const ModeSequence& seq = *rec.sequence;
     std::cerr << fmt::format("morun: events: {} phase{} ({})\n", seq.modes.size(), seq.modes.size() == 1 ? "" : "s",
-                             describe(ode, seq));
-    PhasedModel pm = build_phased_model(ode, rel, seq, P.t0, P.tf, lagrange);
+                             describe_modes(ode, seq));
+    PhasedModel pm = build_phased_model(ode, rel, seq, phase_layout(seq), P.t0, P.tf, lagrange);
     BuiltModel built = build_model(pm.ode, cli.jobs, "morun", cli.run, cli.quiet);
     const runtime::OptimalControlProblem Q = phased_problem(P, pm, seq, guess, info, min_gap);
     runtime::OptimizationResult r;
@@ -305,31 +333,17 @@ int optimal_control_with_events(frontend::flat::Model& flat, const StudyCli& cli
       r = runtime::solve(*built.model, Q);
     }
     move_to_simulate(cli.run, r.timings.resimulation);
-    const std::vector<double> taus = switch_times(pm, r, P.t0, P.tf);
+    const std::vector<double> taus = boundary_times(pm, r, P.t0, P.tf);
+    const std::vector<double> switches = solved_switch_times(pm, r);
     R = physical_result(pm, r, taus, info, P.controls.size());
     Pphys.collocation.n_e = static_cast<int>(R.element_times.size()) - 1;
-    EventCheck check = check_resimulation(*s.built.model, ode, rel, seq, Pphys, R, taus, min_gap);
-    const bool times_hold = check.max_switch_shift <= kTimeTolerance * (P.tf - P.t0);
-    status = !R.ok()                                   ? std::string(runtime::to_string(R.status))
-             : !check.failure.empty() || !check.modes  ? "resimulation_failed"
-             : !check.same_modes                       ? "mode_sequence_changed"
-             : !times_hold || check.max_relative > kStateTolerance ? "resimulation_mismatch"
-                                                                   : std::string(runtime::to_string(R.status));
-    nlohmann::json switch_times_json = nlohmann::json::array();
-    for (std::size_t k = 1; k + 1 < taus.size(); ++k) switch_times_json.push_back(taus[k]);
-    events = {{"phases", pm.phases},
-              {"attempts", attempt},
-              {"mode_sequence", sequence_json(ode, seq)},
-              {"switch_times", switch_times_json},
-              {"resimulated_mode_sequence", check.modes ? sequence_json(ode, *check.modes) : nlohmann::json()},
-              {"mode_sequence_held", check.same_modes},
-              {"max_switch_time_difference", check.max_switch_shift},
-              {"switch_time_tolerance", kTimeTolerance * (P.tf - P.t0)},
-              {"max_relative_state_difference", check.max_relative},
-              {"state_tolerance", kStateTolerance}};
+    EventCheck check = check_resimulation(*s.built.model, ode, rel, seq, Pphys, R, switches, min_gap);
+    status = event_status(R, check, check.same_modes, kTimeTolerance * (P.tf - P.t0), kStateTolerance);
+    events = events_json(ode, seq, check, pm.phases, attempt, switches, check.same_modes, kTimeTolerance * (P.tf - P.t0),
+                         kStateTolerance);
     std::cerr << fmt::format("morun: attempt {}: {}; re-simulated: {}, largest state difference {:.3g} of scale\n",
                              attempt, runtime::to_string(R.status),
-                             check.modes ? describe(ode, *check.modes) : check.failure, check.max_relative);
+                             check.modes ? describe_modes(ode, *check.modes) : check.failure, check.max_relative);
     if (status != "mode_sequence_changed" || attempt == kMaxAttempts) break;
     guess.parameters = R.parameters;  // start again from the optimum, on the new sequence
     for (std::size_t c = 0; c < P.controls.size(); ++c) {

@@ -102,15 +102,33 @@ ModeRecording record_modes(const runtime::Model& model, const symbolic::OdeModel
 /// clauses) and modes (signs of the indicators of the equations, discrete values).
 bool same_modes(const ModeSequence& a, const ModeSequence& b, const RelationMap& rel);
 
+/// A boundary between consecutive phases: a switch of the sequence (free
+/// time, indicator = 0, jump) or a fixed cut (a measurement time; continuity).
+struct PhaseBoundary {
+  double time = 0.0;                        ///< the (guessed) time
+  std::optional<std::size_t> switch_index;  ///< the switch, or nullopt for a fixed cut
+  std::vector<double> states_after;         ///< guess of the next phase's start
+};
+
+/// Phases in time order: per phase the mode it is in, and the boundaries between them.
+struct PhaseLayout {
+  std::vector<std::size_t> mode;         ///< per phase: index into ModeSequence::modes
+  std::vector<PhaseBoundary> boundaries; ///< phases − 1
+};
+
+/// One phase per mode, boundaries at the switches.
+PhaseLayout phase_layout(const ModeSequence& seq);
+
 /// The stacked model of a mode sequence and where its parts are.
 struct PhasedModel {
   symbolic::OdeModel ode;
   std::size_t phases = 1;
+  PhaseLayout layout;                          ///< what it was built from
   std::size_t nx = 0, nu = 0, np = 0, ny = 0;  ///< sizes of the base model
   std::vector<std::size_t> switch_time;        ///< parameter index of τ_k, k = 1..K−1
-  std::vector<std::size_t> phase_start;        ///< first parameter index of q^{k+1}, k = 1..K−1
-  std::vector<std::size_t> indicator_output;   ///< output index of g at switch k
-  std::vector<std::size_t> jump_output;        ///< first of nx output indices of switch k
+  std::vector<std::size_t> phase_start;        ///< first parameter index of q^{k+1}, per boundary
+  std::vector<std::size_t> indicator_output;   ///< output index of g, per switch
+  std::vector<std::size_t> jump_output;        ///< first of nx output indices, per boundary
   std::vector<std::size_t> length_output;      ///< output index of τ_k − τ_{k−1}, per phase
   std::optional<std::size_t> lagrange_output;  ///< Σ_k (τ_k − τ_{k−1})·L^k
   /// Index of phase k's copy of base state i / input j / output o.
@@ -119,10 +137,10 @@ struct PhasedModel {
   [[nodiscard]] std::size_t output(std::size_t k, std::size_t o) const { return k * ny + o; }
 };
 
-/// Stacks the phases of `seq` for `base` on [t0, tf]; `lagrange` is the base
-/// output index of the objective integrand, if any.
+/// Stacks the phases of `layout` (modes from `seq`) for `base` on [t0, tf];
+/// `lagrange` is the base output index of the objective integrand, if any.
 PhasedModel build_phased_model(symbolic::OdeModel& base, const RelationMap& rel, const ModeSequence& seq,
-                               double t0, double tf, std::optional<std::size_t> lagrange);
+                               const PhaseLayout& layout, double t0, double tf, std::optional<std::size_t> lagrange);
 
 /// s ↦ signal(t0 + s·(t1 − t0)): a physical-time signal seen on a phase's normalised time.
 std::unique_ptr<runtime::InputSignal> phase_time_signal(std::shared_ptr<const runtime::InputSignal> signal,
@@ -135,5 +153,11 @@ std::unique_ptr<runtime::InputSignal> phase_time_signal(std::shared_ptr<const ru
 int optimal_control_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt,
                                 ProblemOutputs problem, symbolic::OdeModel& ode,
                                 frontend::DiagnosticEngine& diags);
+
+/// Task estimation on a model with events: one experiment without inputs,
+/// phases cut at every sample time (docs/events.md); statistics from CVODES
+/// sensitivities through the events. Returns the exit status.
+int estimation_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt,
+                           ProblemOutputs problem, symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags);
 
 }  // namespace mo::tools

@@ -161,23 +161,26 @@ namespace {
 /// Builds the phases into `out` step by step.
 class PhaseBuilder {
 public:
-  PhaseBuilder(OdeModel& base, const RelationMap& rel, const ModeSequence& seq, PhasedModel& out)
-      : b_(base), rel_(rel), seq_(seq), out_(out), m_(out.ode), K_(seq.modes.size()) {}
+  PhaseBuilder(OdeModel& base, const RelationMap& rel, const ModeSequence& seq, const PhaseLayout& layout,
+               PhasedModel& out)
+      : b_(base), rel_(rel), seq_(seq), lay_(layout), out_(out), m_(out.ode), K_(layout.mode.size()) {}
 
   void build(double t0, double tf, std::optional<std::size_t> lagrange) {
     m_.name = b_.name;
     m_.time = m_.arena.symbol(b_.arena.symbol_info(b_.time).name, SymbolRole::Time,
                               b_.arena.symbol_info(b_.time).index);
     out_.phases = K_;
+    out_.layout = lay_;
     out_.nx = b_.states.size(), out_.nu = b_.inputs.size(), out_.np = b_.parameters.size();
     out_.ny = b_.outputs.size();
     add_parameters();
     taus_.push_back(m_.arena.constant(t0));
-    for (std::size_t k = 0; k + 1 < K_; ++k) taus_.push_back(m_.parameters[out_.switch_time[k]].symbol);
+    for (const auto& b : lay_.boundaries)
+      taus_.push_back(b.switch_index ? m_.parameters[out_.switch_time[*b.switch_index]].symbol : m_.arena.constant(b.time));
     taus_.push_back(m_.arena.constant(tf));
     add_variables();
     for (std::size_t k = 0; k < K_; ++k) add_phase(k);
-    for (std::size_t k = 0; k + 1 < K_; ++k) add_switch(k);
+    for (std::size_t k = 0; k + 1 < K_; ++k) add_boundary(k);
     if (K_ > 1)
       for (std::size_t k = 0; k < K_; ++k) out_.length_output.push_back(add_output("$phase" + std::to_string(k + 1) + ".length", length(k)));
     if (lagrange) {
@@ -200,7 +203,7 @@ private:
 
   void add_parameters() {
     for (const auto& p : b_.parameters) add_parameter(p.info, p.value);
-    for (std::size_t k = 0; k + 1 < K_; ++k) {
+    for (std::size_t k = 0; k < seq_.switches.size(); ++k) {
       symbolic::VariableInfo info;
       info.name = "$switch" + std::to_string(k + 1) + ".time";
       out_.switch_time.push_back(add_parameter(info, seq_.switches[k].time));
@@ -210,7 +213,7 @@ private:
       for (std::size_t i = 0; i < b_.states.size(); ++i) {
         symbolic::VariableInfo info = b_.states[i].info;
         info.name = phase_name(k + 1, b_.states[i].info.name) + ".start";
-        const auto& after = seq_.switches[k].states_after;
+        const auto& after = lay_.boundaries[k].states_after;
         add_parameter(info, i < after.size() ? after[i] : 0.0);
       }
     }
@@ -276,7 +279,7 @@ private:
   }
 
   void add_phase(std::size_t k) {
-    const PhaseMode& mode = seq_.modes[k];
+    const PhaseMode& mode = seq_.modes[lay_.mode[k]];
     Copier c(b_.arena, m_.arena);
     map_leaves(c, k, mode, mode);
     std::vector<Expr> physical_der;
@@ -327,24 +330,30 @@ private:
     for (auto& e : b.jacobian) e.value = c.at(e.value);
   }
 
-  /// Outputs at the end of phase k: the indicator, and x^{k+1}(0) − r(x^k) per state.
-  void add_switch(std::size_t k) {
-    const PhaseSwitch& sw = seq_.switches[k];
-    const std::string prefix = "$switch" + std::to_string(k + 1);
-    {
-      Copier c(b_.arena, m_.arena);
-      map_leaves(c, k, seq_.modes[k], seq_.modes[k]);
-      for (std::size_t i = 0; i < b_.states.size(); ++i)
-        c.set(b_.states[i].derivative, find_algebraic(k, "der(" + b_.states[i].info.name + ")"));
-      for (const auto& a : b_.algebraics) c.set(a.symbol, find_algebraic(k, a.info.name));
-      out_.indicator_output.push_back(add_output(prefix + ".indicator", c.copy(b_.zero_crossings[sw.indicator])));
-    }
-    Copier c(b_.arena, m_.arena);  // the jump: d new, pre(d) old, pre(x) = x^k(1)
-    map_leaves(c, k, seq_.modes[k + 1], seq_.modes[k]);
+  /// Outputs at the end of phase k: at a switch the indicator, and per state
+  /// r(x^k) − x^{k+1}(0) (r the identity at a fixed cut or without reinit).
+  void add_boundary(std::size_t k) {
+    const PhaseBoundary& bd = lay_.boundaries[k];
+    const PhaseMode& before = seq_.modes[lay_.mode[k]];
+    const PhaseMode& after_mode = seq_.modes[lay_.mode[k + 1]];
+    const std::string prefix = "$boundary" + std::to_string(k + 1);
     std::vector<Expr> after;
     for (std::size_t i = 0; i < b_.states.size(); ++i) after.push_back(m_.states[out_.state(k, i)].symbol);
-    for (std::size_t w : sw.whens)
-      for (const auto& r : b_.whens[w].reinits) after[r.state] = c.copy(r.value);
+    if (bd.switch_index) {
+      const PhaseSwitch& sw = seq_.switches[*bd.switch_index];
+      {
+        Copier c(b_.arena, m_.arena);
+        map_leaves(c, k, before, before);
+        for (std::size_t i = 0; i < b_.states.size(); ++i)
+          c.set(b_.states[i].derivative, find_algebraic(k, "der(" + b_.states[i].info.name + ")"));
+        for (const auto& a : b_.algebraics) c.set(a.symbol, find_algebraic(k, a.info.name));
+        out_.indicator_output.push_back(add_output(prefix + ".indicator", c.copy(b_.zero_crossings[sw.indicator])));
+      }
+      Copier c(b_.arena, m_.arena);  // the jump: d new, pre(d) old, pre(x) = x^k(1)
+      map_leaves(c, k, after_mode, before);
+      for (std::size_t w : sw.whens)
+        for (const auto& r : b_.whens[w].reinits) after[r.state] = c.copy(r.value);
+    }
     out_.jump_output.push_back(m_.outputs.size());
     for (std::size_t i = 0; i < b_.states.size(); ++i)
       add_output(prefix + ".jump." + b_.states[i].info.name,
@@ -360,6 +369,7 @@ private:
   OdeModel& b_;
   const RelationMap& rel_;
   const ModeSequence& seq_;
+  const PhaseLayout& lay_;
   PhasedModel& out_;
   OdeModel& m_;
   std::size_t K_;
@@ -368,10 +378,20 @@ private:
 
 }  // namespace
 
-PhasedModel build_phased_model(OdeModel& base, const RelationMap& rel, const ModeSequence& seq, double t0,
-                               double tf, std::optional<std::size_t> lagrange) {
+PhaseLayout phase_layout(const ModeSequence& seq) {
+  PhaseLayout out;
+  out.mode.push_back(0);
+  for (std::size_t k = 0; k < seq.switches.size(); ++k) {
+    out.mode.push_back(k + 1);
+    out.boundaries.push_back({seq.switches[k].time, k, seq.switches[k].states_after});
+  }
+  return out;
+}
+
+PhasedModel build_phased_model(OdeModel& base, const RelationMap& rel, const ModeSequence& seq,
+                               const PhaseLayout& layout, double t0, double tf, std::optional<std::size_t> lagrange) {
   PhasedModel out;
-  PhaseBuilder(base, rel, seq, out).build(t0, tf, lagrange);
+  PhaseBuilder(base, rel, seq, layout, out).build(t0, tf, lagrange);
   return out;
 }
 
