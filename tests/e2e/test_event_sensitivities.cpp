@@ -62,11 +62,11 @@ TEST_CASE("stick-slip friction: mode, reinit and a force step at a parameter tim
   check("e2e_ev_stickslip", "StickSlip", {"k", "Fc", "tF", "F1"}, runtime::OutputGrid::uniform(0, 10, 100), 1e-4);
 }
 
-TEST_CASE("an estimation on a model with events is refused with the when-clause named, never 'success'",
+TEST_CASE("a design on a model with events is refused with the when-clause named, never 'success'",
           "[events][studies]") {
   const fs::path dir = scratch("study_events");
   const Run r = morun(quoted(kData + "BallControl.mop") + " -o " + quoted((dir / "out").string()) +
-                          " --option task=estimation",
+                          " --option task=design --option parameters={g}",
                       dir);
   INFO(r.err);
   CHECK(r.status == 1);
