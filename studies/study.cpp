@@ -13,6 +13,7 @@
 #include "study_events.hpp"
 #include "study_internal.hpp"
 #include "study_output.hpp"
+#include "study_phases.hpp"
 #include "study_time_scaling.hpp"
 #include "study_plots.hpp"
 
@@ -130,8 +131,6 @@ std::vector<runtime::FreeParameter> free_parameters(const Study& s) {
   return out;
 }
 
-namespace {
-
 /// The Optimica problem: every input a control (bounds, initialGuess),
 /// free parameters, objective terms and constraints through their outputs.
 runtime::OptimalControlProblem base_problem(const Study& s) {
@@ -163,6 +162,8 @@ runtime::OptimalControlProblem base_problem(const Study& s) {
   p.solver = solver_options(s);
   return p;
 }
+
+namespace {
 
 int report(const std::string& task, const runtime::OptimizationResult& r) {
   std::cerr << fmt::format("morun: {} {}: objective {:.6g} after {} iterations ({:.2f} s)\n", task,
@@ -377,10 +378,13 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
     scale_time(flat, *problem);
   }
   std::optional<symbolic::OdeModel> ode;
+  bool phased = false;  // optimal control on a model with events: multi-phase collocation
   {
     PhaseScope phase(cli.run, "lower", flat.name);
     if (parsed.errors.empty() && parsed.ok && problem) ode = lower_model(flat, diags);
-    if (ode && reject_events_in_study(flat, *ode, diags)) ode.reset();
+    phased = ode && (parsed.options.task == "optimal_control" || parsed.options.task == "estimation") &&
+             has_events(*ode);
+    if (ode && !phased && reject_events_in_study(flat, *ode, diags)) ode.reset();
     diags.print(std::cerr);  // once: warnings, or the errors that stop here
     if (!parsed.errors.empty()) return 2;
     if (!ode) return 1;
@@ -390,6 +394,15 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
     add_measured_outputs(*ode, measured_names(parsed.options, cli.study_file));
     if (const auto params = sensitivity_parameters(flat, parsed.options); !params.empty())
       if (auto error = add_named_sensitivities(*ode, params); !error.empty()) throw UsageError(error);
+  }
+  if (phased) {
+    fs::create_directories(cli.output);
+    const bool estimation = parsed.options.task == "estimation";
+    const int status =
+        estimation ? estimation_with_events(flat, cli, std::move(parsed.options), std::move(*problem), *ode, diags)
+                   : optimal_control_with_events(flat, cli, std::move(parsed.options), std::move(*problem), *ode, diags);
+    if (cli.run) record_timings(cli.output, cli.run->timings);
+    return status;
   }
   Study s{flat, cli, std::move(parsed.options), std::move(*problem),
           build_model(*ode, cli.jobs, "morun", cli.run, cli.quiet)};

@@ -49,7 +49,35 @@ std::pair<const ast::Equation*, const ast::Expr*> first_switch(const frontend::f
   return {nullptr, relation};
 }
 
+/// The when/elsewhen branches of the equations, in order.
+std::vector<const ast::EquationBranch*> when_branches(const frontend::flat::Model& flat) {
+  std::vector<const ast::EquationBranch*> out;
+  std::vector<const ast::Equation*> stack;
+  for (auto it = flat.equations.rbegin(); it != flat.equations.rend(); ++it) stack.push_back(&*it);
+  while (!stack.empty()) {
+    const ast::Equation* eq = stack.back();
+    stack.pop_back();
+    if (eq->kind == ast::EquationKind::When) {
+      for (const auto& b : eq->branches) out.push_back(&b);
+      continue;
+    }
+    for (auto b = eq->branches.rbegin(); b != eq->branches.rend(); ++b)
+      for (auto it = b->body.rbegin(); it != b->body.rend(); ++it) stack.push_back(&*it);
+    for (auto it = eq->body.rbegin(); it != eq->body.rend(); ++it) stack.push_back(&*it);
+  }
+  return out;
+}
+
 }  // namespace
+
+frontend::SourceRange event_source(const frontend::flat::Model& flat, std::optional<std::size_t> when) {
+  if (when) {
+    const auto branches = when_branches(flat);
+    if (*when < branches.size()) return branches[*when]->range;
+  }
+  const auto [eq, relation] = first_switch(flat);
+  return eq ? eq->range : relation ? relation->range : flat.optimization->range;
+}
 
 bool reject_events_in_study(const frontend::flat::Model& flat, const symbolic::OdeModel& ode,
                             frontend::DiagnosticEngine& diags) {

@@ -42,6 +42,10 @@ runtime::CollocationOptions collocation_options(const StudyOptions& o);
 std::vector<runtime::FreeParameter> free_parameters(const Study& s);
 /// Measured outputs, σ and sample times on [t0, tf] from the options.
 runtime::MeasurementDesign measurements(const Study& s, double t0, double tf);
+/// The Optimica problem of the study: every input a control (bounds,
+/// initialGuess), free parameters, objective terms and constraints through
+/// their outputs, collocation and solver options.
+runtime::OptimalControlProblem base_problem(const Study& s);
 /// Monte-Carlo check of the estimator (task = "monte_carlo").
 int monte_carlo(Study& s);
 

@@ -62,10 +62,12 @@ TEST_CASE("stick-slip friction: mode, reinit and a force step at a parameter tim
   check("e2e_ev_stickslip", "StickSlip", {"k", "Fc", "tF", "F1"}, runtime::OutputGrid::uniform(0, 10, 100), 1e-4);
 }
 
-TEST_CASE("a study on a model with events is refused with the when-clause named, never 'success'",
+TEST_CASE("a design on a model with events is refused with the when-clause named, never 'success'",
           "[events][studies]") {
   const fs::path dir = scratch("study_events");
-  const Run r = morun(quoted(kData + "BallControl.mop") + " -o " + quoted((dir / "out").string()), dir);
+  const Run r = morun(quoted(kData + "BallControl.mop") + " -o " + quoted((dir / "out").string()) +
+                          " --option task=design --option parameters={g}",
+                      dir);
   INFO(r.err);
   CHECK(r.status == 1);
   CHECK(r.err.find("BallControl.mop:14:3: error:") != std::string::npos);

@@ -1,0 +1,163 @@
+// Multi-phase collocation for studies on models with events (docs/events.md).
+//
+// A simulation of the initial guess gives the sequence of modes: between two
+// events that change something (a reinit, a discrete variable, or a relation
+// of the continuous equations) the model is smooth. Each mode becomes a phase
+// on its own normalised time s ∈ [0, 1], t = τ_{k−1} + s·(τ_k − τ_{k−1}),
+// with the relations and discrete variables frozen to the mode's values. All
+// phases are stacked into one smooth OdeModel (states, inputs, algebraics and
+// outputs copied per phase), so the existing collocation, its exact Jacobians
+// and Hessians solve the multi-phase problem unchanged:
+//
+//   der_s(x^k) = (τ_k − τ_{k−1})·f_k(x^k, u^k, p, t_k(s)),
+//   x^1(0) = x0(p),  x^{k+1}(0) = q^{k+1} (free parameters),
+//   at s = 1 for k < K:  g_i(x^k, u^k, p, τ_k) = 0          (the indicator that switched)
+//                        r(x^k, p, τ_k) − q^{k+1} = 0         (the jump; identity if no reinit)
+//   τ_k − τ_{k−1} ≥ ε,  τ_k free in [t0, tf].
+#pragma once
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "mo/frontend/diagnostics.hpp"
+#include "mo/frontend/flat.hpp"
+#include "mo/runtime/input.hpp"
+#include "mo/runtime/model.hpp"
+#include "mo/symbolic/ode.hpp"
+#include "study.hpp"
+#include "study_options.hpp"
+#include "study_problem.hpp"
+
+namespace mo::tools {
+
+/// One mode: what is constant between two switches.
+struct PhaseMode {
+  std::vector<int> signs;        ///< per indicator: sign of g in the phase (±1; 0 if g stays 0)
+  std::vector<double> discrete;  ///< the discrete variables d in the phase
+  double start = 0.0, end = 0.0; ///< the phase's times in the simulation it came from
+};
+
+/// One switch between consecutive modes.
+struct PhaseSwitch {
+  double time = 0.0;                ///< the event time in the simulation
+  std::size_t indicator = 0;        ///< the indicator that crossed
+  int direction = 0;                ///< −1 downwards, +1 upwards
+  std::vector<std::size_t> whens;   ///< when-clauses that fired (OdeModel::whens indices)
+  std::vector<double> states_after; ///< x⁺ in the simulation
+};
+
+/// The sequence of modes of one simulation: K modes, K − 1 switches.
+struct ModeSequence {
+  std::vector<PhaseMode> modes;
+  std::vector<PhaseSwitch> switches;
+};
+
+/// What the relations of a model are: which indicator each belongs to.
+struct RelationMap {
+  /// Per relation node of the continuous equations and when-conditions that
+  /// has an indicator: (relation, indicator, its value after a downward crossing).
+  struct Entry {
+    symbolic::Expr relation;
+    std::size_t indicator;
+    double value_if_down;
+  };
+  std::vector<Entry> entries;
+  std::vector<bool> in_equations;  ///< per indicator: a relation of it is in the steps/outputs
+};
+
+/// The relations of `ode` matched to its zero crossings (adds differences to its arena).
+RelationMap match_relations(symbolic::OdeModel& ode);
+
+/// A reason the multi-phase formulation cannot take a model or a sequence,
+/// with the when-clause (index) or indicator it concerns.
+struct PhaseRefusal {
+  std::string message;
+  std::optional<std::size_t> when;       ///< the when-clause concerned
+  std::optional<std::size_t> indicator;  ///< else the indicator concerned
+};
+
+/// Checks the model's event constructs once: every when-condition a single
+/// relation with an indicator, reinit values and discrete assignments over
+/// states, parameters, time, pre() and discrete variables only (no algebraic
+/// unknowns), discrete assignments independent of states and parameters, and
+/// no relation of the equations on an input. nullopt if all hold.
+std::optional<PhaseRefusal> check_event_constructs(const symbolic::OdeModel& ode, const RelationMap& rel);
+
+/// Simulates `model` from t0 to tf with `inputs` and `p`, recording every
+/// event, and returns its mode sequence, or a refusal (several indicators at
+/// one instant, a time event, an event iteration that changes more, more
+/// than `max_switches` switches, two switches closer than `min_gap`).
+/// `simulation_message` is set if the simulation itself failed.
+struct ModeRecording {
+  std::optional<ModeSequence> sequence;
+  std::optional<PhaseRefusal> refusal;
+  std::string simulation_failure;  ///< non-empty if the simulation failed
+};
+ModeRecording record_modes(const runtime::Model& model, const symbolic::OdeModel& ode, const RelationMap& rel,
+                           const runtime::Inputs& inputs, const std::vector<double>& p, double t0, double tf,
+                           std::size_t max_switches, double min_gap);
+
+/// True if the two sequences have the same switches (indicator, direction,
+/// clauses) and modes (signs of the indicators of the equations, discrete values).
+bool same_modes(const ModeSequence& a, const ModeSequence& b, const RelationMap& rel);
+
+/// A boundary between consecutive phases: a switch of the sequence (free
+/// time, indicator = 0, jump) or a fixed cut (a measurement time; continuity).
+struct PhaseBoundary {
+  double time = 0.0;                        ///< the (guessed) time
+  std::optional<std::size_t> switch_index;  ///< the switch, or nullopt for a fixed cut
+  std::vector<double> states_after;         ///< guess of the next phase's start
+};
+
+/// Phases in time order: per phase the mode it is in, and the boundaries between them.
+struct PhaseLayout {
+  std::vector<std::size_t> mode;         ///< per phase: index into ModeSequence::modes
+  std::vector<PhaseBoundary> boundaries; ///< phases − 1
+};
+
+/// One phase per mode, boundaries at the switches.
+PhaseLayout phase_layout(const ModeSequence& seq);
+
+/// The stacked model of a mode sequence and where its parts are.
+struct PhasedModel {
+  symbolic::OdeModel ode;
+  std::size_t phases = 1;
+  PhaseLayout layout;                          ///< what it was built from
+  std::size_t nx = 0, nu = 0, np = 0, ny = 0;  ///< sizes of the base model
+  std::vector<std::size_t> switch_time;        ///< parameter index of τ_k, k = 1..K−1
+  std::vector<std::size_t> phase_start;        ///< first parameter index of q^{k+1}, per boundary
+  std::vector<std::size_t> indicator_output;   ///< output index of g, per switch
+  std::vector<std::size_t> jump_output;        ///< first of nx output indices, per boundary
+  std::vector<std::size_t> length_output;      ///< output index of τ_k − τ_{k−1}, per phase
+  std::optional<std::size_t> lagrange_output;  ///< Σ_k (τ_k − τ_{k−1})·L^k
+  /// Index of phase k's copy of base state i / input j / output o.
+  [[nodiscard]] std::size_t state(std::size_t k, std::size_t i) const { return k * nx + i; }
+  [[nodiscard]] std::size_t input(std::size_t k, std::size_t j) const { return k * nu + j; }
+  [[nodiscard]] std::size_t output(std::size_t k, std::size_t o) const { return k * ny + o; }
+};
+
+/// Stacks the phases of `layout` (modes from `seq`) for `base` on [t0, tf];
+/// `lagrange` is the base output index of the objective integrand, if any.
+PhasedModel build_phased_model(symbolic::OdeModel& base, const RelationMap& rel, const ModeSequence& seq,
+                               const PhaseLayout& layout, double t0, double tf, std::optional<std::size_t> lagrange);
+
+/// s ↦ signal(t0 + s·(t1 − t0)): a physical-time signal seen on a phase's normalised time.
+std::unique_ptr<runtime::InputSignal> phase_time_signal(std::shared_ptr<const runtime::InputSignal> signal,
+                                                        double t0, double t1);
+
+/// Task optimal_control on a model with events: the multi-phase collocation,
+/// re-simulation and mode-sequence check (up to 3 rebuilds); writes the
+/// results in physical time with `status` saying whether the check held.
+/// `ode` is the lowered model with the problem's outputs. Returns the exit status.
+int optimal_control_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt,
+                                ProblemOutputs problem, symbolic::OdeModel& ode,
+                                frontend::DiagnosticEngine& diags);
+
+/// Task estimation on a model with events: one experiment without inputs,
+/// phases cut at every sample time (docs/events.md); statistics from CVODES
+/// sensitivities through the events. Returns the exit status.
+int estimation_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt,
+                           ProblemOutputs problem, symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags);
+
+}  // namespace mo::tools

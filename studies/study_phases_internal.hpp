@@ -1,0 +1,71 @@
+// Pieces shared by the multi-phase tasks (study_phases.cpp, study_phases_estimation.cpp).
+#pragma once
+
+#include <nlohmann/json.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "mo/runtime/optimize.hpp"
+#include "study_phases.hpp"
+
+namespace mo::tools {
+
+/// The current guess on physical time: all base parameters, one signal per control.
+struct Guess {
+  std::vector<double> parameters;
+  std::vector<std::shared_ptr<const runtime::InputSignal>> controls;
+};
+
+/// The multi-phase problem on s ∈ [0, 1] for the stacked model `pm` built from
+/// `P` (the base problem on physical time): controls and fixed inputs per
+/// phase, free switching times and phase starts, switch and jump constraints
+/// at s = 1, phase lengths ≥ min_gap. Throws UsageError for point constraints
+/// inside the horizon.
+runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProblem& P, const PhasedModel& pm,
+                                              const ModeSequence& seq, const Guess& g,
+                                              const runtime::ModelInfo& base, double min_gap);
+
+/// The phases' boundaries τ_0 = t0 < ... < τ_K = tf at the solution `r`.
+std::vector<double> boundary_times(const PhasedModel& pm, const runtime::OptimizationResult& r, double t0, double tf);
+
+/// The switching times at the solution, one per switch.
+std::vector<double> solved_switch_times(const PhasedModel& pm, const runtime::OptimizationResult& r);
+
+/// The solution on physical time for the base model (names, element times, controls).
+runtime::OptimizationResult physical_result(const PhasedModel& pm, const runtime::OptimizationResult& r,
+                                            const std::vector<double>& taus, const runtime::ModelInfo& base,
+                                            std::size_t num_controls);
+
+/// The re-simulation of the base model at the optimum against the collocation.
+struct EventCheck {
+  std::optional<ModeSequence> modes;  ///< the re-simulation's mode sequence
+  std::string failure;                ///< why there is none
+  bool same_modes = false;            ///< same_modes() with the solved sequence
+  double max_relative = 0.0;          ///< largest state difference / the state's scale
+  double max_switch_shift = 0.0;      ///< largest |τ_sim − τ_coll|
+};
+
+/// Re-simulates `model` with the inputs and parameters of `R` (fills R.check)
+/// and compares modes, switching times and states away from the switches.
+EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& ode, const RelationMap& rel,
+                              const ModeSequence& seq, const runtime::OptimalControlProblem& Pphys,
+                              runtime::OptimizationResult& R, const std::vector<double>& switches, double min_gap);
+
+/// "h falls through 0 at t = 0.45, ..." for messages.
+std::string describe_modes(const symbolic::OdeModel& ode, const ModeSequence& seq);
+
+/// summary.json's `status`: Ipopt's, or resimulation_failed, mode_sequence_changed, resimulation_mismatch.
+std::string event_status(const runtime::OptimizationResult& R, const EventCheck& check, bool same, double time_tol,
+                         double state_tol);
+
+/// summary.json's `events` object.
+nlohmann::json events_json(const symbolic::OdeModel& ode, const ModeSequence& seq, const EventCheck& check,
+                           std::size_t phases, int attempt, const std::vector<double>& switches, bool same,
+                           double time_tol, double state_tol);
+
+/// Reports `r` at its when-clause (or the first switching construct) and prints the diagnostics; returns 1.
+int refuse_phases(const frontend::flat::Model& flat, const PhaseRefusal& r, frontend::DiagnosticEngine& diags);
+
+}  // namespace mo::tools

@@ -1,0 +1,426 @@
+// The stacked multi-phase model and the checks of a model's event
+// constructs; see study_phases.hpp.
+#include <stdexcept>
+#include <unordered_map>
+
+#include "mo/symbolic/printer.hpp"
+#include "mo/symbolic/traversal.hpp"
+#include "study_phases.hpp"
+
+namespace mo::tools {
+
+using symbolic::Expr;
+using symbolic::ExprArena;
+using symbolic::ExprKind;
+using symbolic::OdeModel;
+using symbolic::SymbolRole;
+
+namespace {
+
+bool is_relation_kind(ExprKind k) {
+  return k == ExprKind::Lt || k == ExprKind::Le || k == ExprKind::Gt || k == ExprKind::Ge;
+}
+
+/// Every expression the continuous steps and outputs compute.
+std::vector<Expr> equation_roots(const OdeModel& m) {
+  std::vector<Expr> roots;
+  for (const auto& s : m.steps) {
+    if (const auto* as = std::get_if<symbolic::Assignment>(&s)) {
+      roots.push_back(as->value);
+      continue;
+    }
+    const auto& b = std::get<symbolic::EquationBlock>(s);
+    roots.insert(roots.end(), b.residuals.begin(), b.residuals.end());
+    roots.insert(roots.end(), b.offset.begin(), b.offset.end());
+    for (const auto& e : b.jacobian) roots.push_back(e.value);
+  }
+  for (const auto& y : m.outputs) roots.push_back(y.value);
+  return roots;
+}
+
+/// Copies expressions of one arena into another, leaves (and chosen nodes)
+/// replaced by given expressions of the destination.
+class Copier {
+public:
+  Copier(const ExprArena& src, ExprArena& dst) : src_(src), dst_(dst) {}
+  void set(Expr src_node, Expr value) { fixed_[src_node] = value; }
+  /// Copies every node under `roots` (one traversal); then at() gives them.
+  void copy_all(const std::vector<Expr>& roots) {
+    for (Expr e : symbolic::topological_order(src_, roots)) {
+      if (memo_.contains(e)) continue;
+      if (auto f = fixed_.find(e); f != fixed_.end()) {
+        memo_.emplace(e, f->second);
+        continue;
+      }
+      const ExprKind k = src_.kind(e);
+      if (k == ExprKind::Constant) {
+        memo_.emplace(e, dst_.constant(src_.constant_value(e)));
+        continue;
+      }
+      if (src_.is_leaf(e))
+        throw std::logic_error("multi-phase model: no value for " + symbolic::to_modelica(src_, e));
+      std::vector<Expr> ops;
+      for (std::size_t i = 0; i < symbolic::arity(k); ++i) ops.push_back(memo_.at(src_.operand(e, i)));
+      memo_.emplace(e, dst_.make(k, ops));
+    }
+  }
+  [[nodiscard]] Expr at(Expr e) const { return memo_.at(e); }
+  Expr copy(Expr e) {
+    copy_all({e});
+    return at(e);
+  }
+
+private:
+  const ExprArena& src_;
+  ExprArena& dst_;
+  symbolic::ExprMap fixed_, memo_;
+};
+
+std::string phase_name(std::size_t k, const std::string& name) {
+  return "phase" + std::to_string(k + 1) + "." + name;
+}
+
+bool uses_role(const ExprArena& a, Expr e, std::initializer_list<SymbolRole> roles) {
+  for (Expr leaf : symbolic::leaves(a, {&e, 1})) {
+    if (a.kind(leaf) != ExprKind::Symbol) continue;
+    const SymbolRole r = a.symbol_info(leaf).role;
+    for (SymbolRole x : roles)
+      if (r == x) return true;
+  }
+  return false;
+}
+
+}  // namespace
+
+RelationMap match_relations(OdeModel& m) {
+  RelationMap out;
+  out.in_equations.assign(m.zero_crossings.size(), false);
+  std::vector<Expr> roots = equation_roots(m);
+  const std::size_t continuous = roots.size();
+  for (const auto& w : m.whens) roots.push_back(w.condition);
+  std::unordered_map<Expr, bool, symbolic::ExprHash> in_equation;
+  for (Expr e : symbolic::topological_order(m.arena, std::vector<Expr>(roots.begin(), roots.begin() + continuous)))
+    in_equation[e] = true;
+  for (Expr e : symbolic::topological_order(m.arena, roots)) {
+    const ExprKind k = m.arena.kind(e);
+    if (!is_relation_kind(k)) continue;
+    const bool less = k == ExprKind::Lt || k == ExprKind::Le;
+    const Expr a = m.arena.operand(e, 0), b = m.arena.operand(e, 1);
+    const Expr forward = m.arena.sub(a, b), backward = m.arena.sub(b, a);
+    for (std::size_t i = 0; i < m.zero_crossings.size(); ++i) {
+      // g = a − b crossing downwards makes a < b true; g = b − a makes a > b true.
+      const bool fwd = m.zero_crossings[i] == forward;
+      if (!fwd && m.zero_crossings[i] != backward) continue;
+      out.entries.push_back({e, i, fwd == less ? 1.0 : 0.0});
+      if (in_equation.contains(e)) out.in_equations[i] = true;
+      break;
+    }
+  }
+  return out;
+}
+
+std::optional<PhaseRefusal> check_event_constructs(const OdeModel& m, const RelationMap& rel) {
+  for (std::size_t i = 0; i < m.zero_crossings.size(); ++i)
+    if (rel.in_equations[i] && uses_role(m.arena, m.zero_crossings[i], {SymbolRole::Input}))
+      return PhaseRefusal{"the relation " + symbolic::to_modelica(m.arena, m.zero_crossings[i]) +
+                              " = 0 of the equations depends on an input: a phase cannot keep its "
+                              "mode under a free input",
+                          std::nullopt, i};
+  for (std::size_t w = 0; w < m.whens.size(); ++w) {
+    const auto& clause = m.whens[w];
+    const std::string text = "when " + symbolic::to_modelica(m.arena, clause.condition);
+    bool single = false;
+    for (const auto& e : rel.entries) single = single || e.relation == clause.condition;
+    if (!single)
+      return PhaseRefusal{text + ": the multi-phase collocation takes when-conditions that are one "
+                                 "relation with an event indicator (not and/or, sample, initial())",
+                          w, std::nullopt};
+    for (const auto& r : clause.reinits)
+      if (uses_role(m.arena, r.value, {SymbolRole::Algebraic, SymbolRole::Derivative, SymbolRole::Input}))
+        return PhaseRefusal{text + ": reinit(" + m.states[r.state].info.name + ", " +
+                                symbolic::to_modelica(m.arena, r.value) +
+                                ") reads an algebraic variable or an input; the multi-phase "
+                                "collocation takes reinit values over states, parameters, time, "
+                                "pre() and discrete variables",
+                            w, std::nullopt};
+    for (const auto& a : clause.assignments)
+      if (uses_role(m.arena, a.value, {SymbolRole::Algebraic, SymbolRole::Derivative, SymbolRole::Input,
+                                       SymbolRole::State, SymbolRole::Parameter, SymbolRole::Time}))
+        return PhaseRefusal{text + ": " + symbolic::to_modelica(m.arena, a.target) + " := " +
+                                symbolic::to_modelica(m.arena, a.value) +
+                                " takes a value that depends on the continuous part; the multi-phase "
+                                "collocation takes discrete modes (values from constants, pre() and "
+                                "other discrete variables)",
+                            w, std::nullopt};
+  }
+  return std::nullopt;
+}
+
+namespace {
+
+/// Builds the phases into `out` step by step.
+class PhaseBuilder {
+public:
+  PhaseBuilder(OdeModel& base, const RelationMap& rel, const ModeSequence& seq, const PhaseLayout& layout,
+               PhasedModel& out)
+      : b_(base), rel_(rel), seq_(seq), lay_(layout), out_(out), m_(out.ode), K_(layout.mode.size()) {}
+
+  void build(double t0, double tf, std::optional<std::size_t> lagrange) {
+    m_.name = b_.name;
+    m_.time = m_.arena.symbol(b_.arena.symbol_info(b_.time).name, SymbolRole::Time,
+                              b_.arena.symbol_info(b_.time).index);
+    out_.phases = K_;
+    out_.layout = lay_;
+    out_.nx = b_.states.size(), out_.nu = b_.inputs.size(), out_.np = b_.parameters.size();
+    out_.ny = b_.outputs.size();
+    add_parameters();
+    taus_.push_back(m_.arena.constant(t0));
+    for (const auto& b : lay_.boundaries)
+      taus_.push_back(b.switch_index ? m_.parameters[out_.switch_time[*b.switch_index]].symbol : m_.arena.constant(b.time));
+    taus_.push_back(m_.arena.constant(tf));
+    add_variables();
+    for (std::size_t k = 0; k < K_; ++k) add_phase(k);
+    for (std::size_t k = 0; k + 1 < K_; ++k) add_boundary(k);
+    if (K_ > 1)
+      for (std::size_t k = 0; k < K_; ++k) out_.length_output.push_back(add_output("$phase" + std::to_string(k + 1) + ".length", length(k)));
+    if (lagrange) {
+      Expr sum = m_.arena.constant(0.0);
+      for (std::size_t k = 0; k < K_; ++k)
+        sum = m_.arena.add(sum, m_.arena.mul(length(k), m_.outputs[out_.output(k, *lagrange)].value));
+      out_.lagrange_output = add_output("$phases.objective_integrand", sum);
+    }
+  }
+
+private:
+  Expr length(std::size_t k) { return m_.arena.sub(taus_[k + 1], taus_[k]); }
+
+  std::size_t add_parameter(const symbolic::VariableInfo& info, double value) {
+    const std::size_t index = m_.parameters.size();
+    Expr s = m_.arena.symbol(info.name, SymbolRole::Parameter, static_cast<std::int32_t>(index));
+    m_.parameters.push_back({info, s, value});
+    return index;
+  }
+
+  void add_parameters() {
+    for (const auto& p : b_.parameters) add_parameter(p.info, p.value);
+    for (std::size_t k = 0; k < seq_.switches.size(); ++k) {
+      symbolic::VariableInfo info;
+      info.name = "$switch" + std::to_string(k + 1) + ".time";
+      out_.switch_time.push_back(add_parameter(info, seq_.switches[k].time));
+    }
+    for (std::size_t k = 0; k + 1 < K_; ++k) {
+      out_.phase_start.push_back(m_.parameters.size());
+      for (std::size_t i = 0; i < b_.states.size(); ++i) {
+        symbolic::VariableInfo info = b_.states[i].info;
+        info.name = phase_name(k + 1, b_.states[i].info.name) + ".start";
+        const auto& after = lay_.boundaries[k].states_after;
+        add_parameter(info, i < after.size() ? after[i] : 0.0);
+      }
+    }
+  }
+
+  /// States, their physical derivatives (algebraic), inputs and algebraics per phase.
+  void add_variables() {
+    for (std::size_t k = 0; k < K_; ++k)
+      for (std::size_t i = 0; i < b_.states.size(); ++i) {
+        symbolic::OdeState s;
+        s.info = b_.states[i].info;
+        s.info.name = phase_name(k, b_.states[i].info.name);
+        const auto idx = static_cast<std::int32_t>(m_.states.size());
+        s.symbol = m_.arena.symbol(s.info.name, SymbolRole::State, idx);
+        s.derivative = m_.arena.symbol("der(" + s.info.name + ")", SymbolRole::Derivative, idx);
+        s.fixed = k > 0 || b_.states[i].fixed;
+        m_.states.push_back(std::move(s));
+      }
+    for (std::size_t k = 0; k < K_; ++k)
+      for (const auto& u : b_.inputs) {
+        symbolic::OdeInput in{u.info, {}};
+        in.info.name = phase_name(k, u.info.name);
+        in.symbol = m_.arena.symbol(in.info.name, SymbolRole::Input, static_cast<std::int32_t>(m_.inputs.size()));
+        m_.inputs.push_back(std::move(in));
+      }
+  }
+
+  Expr add_algebraic(const symbolic::VariableInfo& info) {
+    symbolic::OdeAlgebraic a{info, {}};
+    a.symbol = m_.arena.symbol(info.name, SymbolRole::Algebraic, static_cast<std::int32_t>(m_.algebraics.size()));
+    m_.algebraics.push_back(a);
+    return a.symbol;
+  }
+
+  std::size_t add_output(const std::string& name, Expr value) {
+    symbolic::OdeOutput y;
+    y.info.name = name;
+    y.value = value;
+    m_.outputs.push_back(std::move(y));
+    return m_.outputs.size() - 1;
+  }
+
+  /// Leaves of phase k: states, inputs, parameters, time, discrete values of `mode`.
+  void map_leaves(Copier& c, std::size_t k, const PhaseMode& mode, const PhaseMode& before) {
+    for (std::size_t i = 0; i < b_.states.size(); ++i) {
+      c.set(b_.states[i].symbol, m_.states[out_.state(k, i)].symbol);
+      c.set(b_.arena.pre(b_.states[i].symbol), m_.states[out_.state(k, i)].symbol);
+    }
+    for (std::size_t j = 0; j < b_.inputs.size(); ++j) c.set(b_.inputs[j].symbol, m_.inputs[out_.input(k, j)].symbol);
+    for (std::size_t j = 0; j < b_.parameters.size(); ++j) c.set(b_.parameters[j].symbol, m_.parameters[j].symbol);
+    c.set(b_.time, m_.arena.add(taus_[k], m_.arena.mul(m_.time, length(k))));
+    for (std::size_t j = 0; j < b_.discrete.size(); ++j) {
+      const double now = j < mode.discrete.size() ? mode.discrete[j] : b_.discrete[j].start;
+      const double pre = j < before.discrete.size() ? before.discrete[j] : now;
+      c.set(b_.discrete[j].symbol, m_.arena.constant(now));
+      c.set(b_.arena.pre(b_.discrete[j].symbol), m_.arena.constant(pre));
+    }
+    for (const auto& e : rel_.entries) {
+      const int sign = e.indicator < mode.signs.size() ? mode.signs[e.indicator] : 0;
+      if (sign == 0) continue;  // never switched and never away from 0: evaluated as is
+      c.set(e.relation, m_.arena.constant(sign < 0 ? e.value_if_down : 1.0 - e.value_if_down));
+    }
+  }
+
+  void add_phase(std::size_t k) {
+    const PhaseMode& mode = seq_.modes[lay_.mode[k]];
+    Copier c(b_.arena, m_.arena);
+    map_leaves(c, k, mode, mode);
+    std::vector<Expr> physical_der;
+    for (std::size_t i = 0; i < b_.states.size(); ++i) {
+      symbolic::VariableInfo info = b_.states[i].info;
+      info.name = phase_name(k, "der(" + b_.states[i].info.name + ")");
+      physical_der.push_back(add_algebraic(info));
+      c.set(b_.states[i].derivative, physical_der.back());
+    }
+    for (const auto& a : b_.algebraics) {
+      symbolic::VariableInfo info = a.info;
+      info.name = phase_name(k, a.info.name);
+      c.set(a.symbol, add_algebraic(info));
+    }
+    std::vector<Expr> roots = equation_roots(b_);
+    for (const auto& s : b_.states) roots.push_back(s.start);
+    for (const auto& s : b_.steps) {
+      if (const auto* as = std::get_if<symbolic::Assignment>(&s))
+        roots.push_back(as->target);
+      else
+        for (Expr u : std::get<symbolic::EquationBlock>(s).unknowns) roots.push_back(u);
+    }
+    c.copy_all(roots);
+    for (const auto& s : b_.steps) copy_step(c, s);
+    for (std::size_t i = 0; i < b_.states.size(); ++i) {
+      auto& x = m_.states[out_.state(k, i)];
+      x.start = k == 0 ? c.at(b_.states[i].start) : m_.parameters[out_.phase_start[k - 1] + i].symbol;
+      m_.steps.push_back(symbolic::Assignment{x.derivative, m_.arena.mul(length(k), physical_der[i]), {}});
+    }
+    for (const auto& y : b_.outputs) {
+      symbolic::OdeOutput copy = y;
+      copy.info.name = phase_name(k, y.info.name);
+      copy.value = c.at(y.value);
+      m_.outputs.push_back(std::move(copy));
+    }
+  }
+
+  /// Appends a copy of step `s` with its expressions copied by `c`.
+  void copy_step(Copier& c, const symbolic::Step& s) {
+    if (const auto* as = std::get_if<symbolic::Assignment>(&s)) {
+      m_.steps.emplace_back(symbolic::Assignment{c.at(as->target), c.at(as->value), as->origin});
+      return;
+    }
+    auto& b = std::get<symbolic::EquationBlock>(m_.steps.emplace_back(std::get<symbolic::EquationBlock>(s)));
+    for (Expr& e : b.unknowns) e = c.at(e);
+    for (Expr& e : b.residuals) e = c.at(e);
+    for (Expr& e : b.offset) e = c.at(e);
+    for (auto& e : b.jacobian) e.value = c.at(e.value);
+  }
+
+  /// Outputs at the end of phase k: at a switch the indicator, and per state
+  /// r(x^k) − x^{k+1}(0) (r the identity at a fixed cut or without reinit).
+  void add_boundary(std::size_t k) {
+    const PhaseBoundary& bd = lay_.boundaries[k];
+    const PhaseMode& before = seq_.modes[lay_.mode[k]];
+    const PhaseMode& after_mode = seq_.modes[lay_.mode[k + 1]];
+    const std::string prefix = "$boundary" + std::to_string(k + 1);
+    std::vector<Expr> after;
+    for (std::size_t i = 0; i < b_.states.size(); ++i) after.push_back(m_.states[out_.state(k, i)].symbol);
+    if (bd.switch_index) {
+      const PhaseSwitch& sw = seq_.switches[*bd.switch_index];
+      {
+        Copier c(b_.arena, m_.arena);
+        map_leaves(c, k, before, before);
+        for (std::size_t i = 0; i < b_.states.size(); ++i)
+          c.set(b_.states[i].derivative, find_algebraic(k, "der(" + b_.states[i].info.name + ")"));
+        for (const auto& a : b_.algebraics) c.set(a.symbol, find_algebraic(k, a.info.name));
+        out_.indicator_output.push_back(add_output(prefix + ".indicator", c.copy(b_.zero_crossings[sw.indicator])));
+      }
+      Copier c(b_.arena, m_.arena);  // the jump: d new, pre(d) old, pre(x) = x^k(1)
+      map_leaves(c, k, after_mode, before);
+      for (std::size_t w : sw.whens)
+        for (const auto& r : b_.whens[w].reinits) after[r.state] = c.copy(r.value);
+    }
+    out_.jump_output.push_back(m_.outputs.size());
+    for (std::size_t i = 0; i < b_.states.size(); ++i)
+      add_output(prefix + ".jump." + b_.states[i].info.name,
+                 m_.arena.sub(after[i], m_.parameters[out_.phase_start[k] + i].symbol));
+  }
+
+  Expr find_algebraic(std::size_t k, const std::string& name) {
+    auto s = m_.arena.find_symbol(phase_name(k, name));
+    if (!s) throw std::logic_error("multi-phase model: no algebraic " + phase_name(k, name));
+    return *s;
+  }
+
+  OdeModel& b_;
+  const RelationMap& rel_;
+  const ModeSequence& seq_;
+  const PhaseLayout& lay_;
+  PhasedModel& out_;
+  OdeModel& m_;
+  std::size_t K_;
+  std::vector<Expr> taus_;
+};
+
+}  // namespace
+
+PhaseLayout phase_layout(const ModeSequence& seq) {
+  PhaseLayout out;
+  out.mode.push_back(0);
+  for (std::size_t k = 0; k < seq.switches.size(); ++k) {
+    out.mode.push_back(k + 1);
+    out.boundaries.push_back({seq.switches[k].time, k, seq.switches[k].states_after});
+  }
+  return out;
+}
+
+PhasedModel build_phased_model(OdeModel& base, const RelationMap& rel, const ModeSequence& seq,
+                               const PhaseLayout& layout, double t0, double tf, std::optional<std::size_t> lagrange) {
+  PhasedModel out;
+  PhaseBuilder(base, rel, seq, layout, out).build(t0, tf, lagrange);
+  return out;
+}
+
+namespace {
+
+class PhaseTimeSignal final : public runtime::InputSignal {
+public:
+  PhaseTimeSignal(std::shared_ptr<const runtime::InputSignal> s, double t0, double t1)
+      : s_(std::move(s)), t0_(t0), t1_(t1) {}
+  double value(double s) const override { return s_->value(t0_ + s * (t1_ - t0_)); }
+  double value_before(double s) const override { return s_->value_before(t0_ + s * (t1_ - t0_)); }
+  std::vector<double> breakpoints(double a, double b) const override {
+    std::vector<double> out;
+    if (t1_ <= t0_) return out;
+    for (double t : s_->breakpoints(t0_ + a * (t1_ - t0_), t0_ + b * (t1_ - t0_)))
+      out.push_back((t - t0_) / (t1_ - t0_));
+    return out;
+  }
+
+private:
+  std::shared_ptr<const runtime::InputSignal> s_;
+  double t0_, t1_;
+};
+
+}  // namespace
+
+std::unique_ptr<runtime::InputSignal> phase_time_signal(std::shared_ptr<const runtime::InputSignal> signal,
+                                                        double t0, double t1) {
+  return std::make_unique<PhaseTimeSignal>(std::move(signal), t0, t1);
+}
+
+}  // namespace mo::tools
