@@ -122,7 +122,7 @@ TEST_CASE("multistart: optima are clustered by relative tolerance, best first") 
   CHECK(optima[0].information_collocation == 20.0005);
   CHECK(optima[0].starts == std::vector<std::size_t>{2, 1});
   CHECK(optima[1].starts == std::vector<std::size_t>{4, 0});
-  CHECK(mo::tools::cluster_optima(starts, 1e-6).size() == 4);
+  CHECK(mo::tools::cluster_optima(starts, 1e-7).size() == 4);
 }
 
 TEST_CASE("multistart: a design result survives the worker's JSON exactly, NaN included") {
