@@ -128,6 +128,8 @@ std::optional<MultistartResult> run_multistart(const runtime::Model& model, cons
       progress->context(fmt::format("{} of {} starts done ({} processes), best so far {:.6g}", finished,
                                     starts.size(), settings.jobs, best_so_far));
   };
+  if (progress && settings.jobs > 1)
+    progress->context(fmt::format("0 of {} starts done ({} processes)", starts.size(), settings.jobs));
   std::vector<json> results = run_parallel(tasks);
   if (results.empty()) return std::nullopt;  // an MPI rank other than 0
   MultistartResult m;
