@@ -3,6 +3,7 @@
 
 #include <fcntl.h>
 #include <poll.h>
+#include <signal.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -160,6 +161,17 @@ void stop_workers(std::vector<Worker>& workers) {
 
 /// The local tasks on forked workers, handed out as workers become free.
 void run_forked(const ParallelTasks& t, const std::vector<std::size_t>& local, std::vector<json>& out) {
+  // A write to a worker that died fails with EPIPE instead of killing morun
+  // (and a worker whose parent died stops the same way).
+  struct IgnoreSigpipe {
+    struct sigaction old {};
+    IgnoreSigpipe() {
+      struct sigaction ignore {};
+      ignore.sa_handler = SIG_IGN;
+      ::sigaction(SIGPIPE, &ignore, &old);
+    }
+    ~IgnoreSigpipe() { ::sigaction(SIGPIPE, &old, nullptr); }
+  } sigpipe;
   std::vector<Worker> workers = start_workers(t, std::min<std::size_t>(t.jobs, local.size()));
   std::size_t next = 0, pending = 0;
   auto feed = [&](Worker& w) {

@@ -5,6 +5,7 @@
 // seeded draws).
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 
@@ -178,4 +179,21 @@ TEST_CASE("multistart: random starts are uniform per control interval, seeded, b
   c.bounds.hi = INFINITY;
   ocp.controls = {c};
   CHECK_THROWS_WITH(mo::tools::random_start(ocp, info, 1, 0), Catch::Contains("'u' needs a finite min and max"));
+}
+
+TEST_CASE("multistart: a Monte-Carlo study gives the same runs with -j 1 and -j 2") {
+  const std::string data = std::string(MO_TEST_DATA_DIR) + "/";
+  const std::string args = quoted(data + "DecayDesign.mop") + " -L " + quoted(data + "Decay.mo") +
+                           " --class DecayEstimate --option task=monte_carlo --option seeds=4"
+                           " --option 'outputs={x}' --option measurements=20";
+  std::string csv[2];
+  for (int j = 1; j <= 2; ++j) {
+    const fs::path dir = scratch("multistart_mc_j" + std::to_string(j));
+    const Run r = morun(args + " -j " + std::to_string(j) + " -o " + quoted((dir / "out").string()), dir);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    csv[j - 1] = slurp(dir / "out" / "monte_carlo.csv");
+  }
+  CHECK(std::count(csv[0].begin(), csv[0].end(), '\n') == 5);  // header and four runs
+  CHECK(csv[0] == csv[1]);
 }

@@ -198,7 +198,7 @@ TEST_CASE("report: estimation and Monte-Carlo summaries have timings; the fit ha
 
   r = morun_env("MO_PROGRESS_SECONDS=0.05",
                 quoted(kCart + "CartPendulumMonteCarlo.opt") + " -L " + kOde + " -o " + quoted((dir / "mc").string()) +
-                    " --option seeds=2 --option n_e=50 --option measurements=50 --option " +
+                    " -j 1 --option seeds=2 --option n_e=50 --option measurements=50 --option " +
                     quoted("inputs={\"F=sine:3,1\"}"),
                 dir);
   INFO(r.err);
