@@ -258,6 +258,7 @@ int design(Study& s) {
       if (!multi) return 0;  // an MPI rank other than 0: rank 0 writes the results
       r = std::move(multi->best);
     } else {
+      if (!mpi_world().root()) return 0;  // one start: rank 0 solves it
       for (std::size_t c = 0; c < d.ocp.controls.size(); ++c)
         if (starts[0].guesses[c]) d.ocp.controls[c].initial_guess = starts[0].guesses[c];
       r = runtime::design_input(*s.built.model, d);
