@@ -106,6 +106,19 @@ TEST_CASE("multistart: mpirun -n 2 splits the starts and finds what one process 
   m["designed_input"] = slurp(dir / "out" / "designed_input.csv");
   check_same(one, m);
   CHECK(fs::exists(dir / "out" / "rank_1.log"));
+
+  // A Monte-Carlo study split across the ranks writes the runs of one process.
+  const std::string data = std::string(MO_TEST_DATA_DIR) + "/";
+  const std::string mc = quoted(data + "DecayDesign.mop") + " -L " + quoted(data + "Decay.mo") +
+                         " --class DecayEstimate --option task=monte_carlo --option seeds=4"
+                         " --option 'outputs={x}' --option measurements=20";
+  const Run ref = morun(mc + " -j 1 -o " + quoted((dir / "mc1").string()), dir);
+  REQUIRE(ref.status == 0);
+  const std::string mpi_mc = "XDG_CACHE_HOME=" + quoted(std::string(MO_BINARY_DIR) + "/morun-test-cache") +
+                             " mpirun --allow-run-as-root --oversubscribe -n 2 " + quoted(kMorun) + " " + mc +
+                             " -o " + quoted((dir / "mc2").string()) + " >/dev/null 2>&1";
+  REQUIRE(std::system(mpi_mc.c_str()) == 0);
+  CHECK(slurp(dir / "mc1" / "monte_carlo.csv") == slurp(dir / "mc2" / "monte_carlo.csv"));
 #endif
 }
 
