@@ -4,9 +4,14 @@
 //   D and E designs for m1, d1, m2, d2, l with n_e = 50 (50 samples).
 // Prints NLP size, iterations, timings, the information in collocation and on
 // replay, and the replay's bound violation (docs/benchmarks.md).
+// M20 (only when named): the T3 design from its guess and 19 random starts on
+// every core (studies/multistart.hpp), its wall time against one start's.
 // Usage: optim_cart_pendulum [CASE ...] [--lbfgs] [--progress] [--log DIR]
 //        [--no-init-traj] [--no-nominal-traj] [--ipopt NAME VALUE ...]
-//        CASE: T3 T1 D5 E5 (default: all four)
+//        CASE: T3 T1 D5 E5 M20 (default: the first four)
+#include <chrono>
+#include <functional>
+#include <optional>
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -17,6 +22,8 @@
 #include "mo/codegen/generate.hpp"
 #include "mo/codegen/shared_object.hpp"
 #include "mo/runtime/design.hpp"
+#include "multistart.hpp"
+#include "parallel_runner.hpp"
 #include "pipeline.hpp"
 
 using namespace mo;
@@ -80,6 +87,30 @@ InputDesignProblem design_problem(const Model& m, const Case& c) {
   return d;
 }
 
+double wall_seconds(const std::function<void()>& f) {
+  const auto start = std::chrono::steady_clock::now();
+  f();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+/// M20: one start, then 20 (the guess and 19 random, seed 1) on every core.
+void multistart_case(const Model& model, const InputDesignProblem& problem) {
+  InputDesignResult one;
+  const double single = wall_seconds([&] { one = design_input(model, problem); });
+  tools::StudyOptions o;
+  o.random_starts = 19;
+  const auto starts = tools::design_starts(o, problem.ocp, model.info());
+  tools::MultistartSettings settings;
+  settings.jobs = tools::default_jobs();
+  settings.output_dir = (std::filesystem::temp_directory_path() / "mocompile-bench-multistart").string();
+  std::optional<tools::MultistartResult> m;
+  const double all = wall_seconds([&] { m = tools::run_multistart(model, problem, starts, settings); });
+  std::printf("M20: one start %.2f s (tr F %.6g); 20 starts on %u processes %.2f s = %.1f x one start "
+              "(target < 10 x on 2 cores)\n",
+              single, one.information_collocation, settings.jobs, all, all / single);
+  if (m) tools::print_multistart(std::cout, *m, "T", settings);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -101,9 +132,9 @@ int main(int argc, char** argv) {
     else if (arg == "--no-init-traj") init_traj = false;
     else if (arg == "--no-nominal-traj") nominal_traj = false;
     else if (arg == "--ipopt" && k + 2 < argc) extra[argv[k + 1]] = argv[k + 2], k += 2;
-    else if (cases.count(arg)) chosen.push_back(arg);
+    else if (cases.count(arg) || arg == "M20") chosen.push_back(arg);
     else {
-      std::cerr << "usage: optim_cart_pendulum [T3|T1|D5|E5 ...] [--lbfgs] [--progress] [--log DIR]"
+      std::cerr << "usage: optim_cart_pendulum [T3|T1|D5|E5|M20 ...] [--lbfgs] [--progress] [--log DIR]"
                    " [--no-init-traj] [--no-nominal-traj] [--ipopt NAME VALUE ...]\n";
       return 2;
     }
@@ -115,6 +146,10 @@ int main(int argc, char** argv) {
               "n_cp", "n", "m", "nnz_jac", "nnz_hess", "iter", "build_s", "solve_s", "eval_s",
               "info_coll", "info_resim", "violation");
   for (const std::string& name : chosen) {
+    if (name == "M20") {
+      multistart_case(*m2, design_problem(*m2, cases.at("T3")));
+      continue;
+    }
     const Case& c = cases.at(name);
     const Model& model = c.parameters.size() == 1 ? *m2 : *all;
     InputDesignProblem problem = design_problem(model, c);

@@ -25,6 +25,7 @@ packages=(
   antlr4 libantlr4-runtime-dev libfmt-dev catch2 libcli11-dev nlohmann-json3-dev
   gnuplot-nox jq clang-14 libclang-rt-14-dev
   chromium  # the test that opens report.html headless
+  libopenmpi-dev openmpi-bin  # optional: multistart across machines (mpirun -n K morun)
 )
 if [ "$with_scilab" = 1 ]; then
   # Scilab itself (launcher, Java GUI libraries, Xcos, the Modelica translator

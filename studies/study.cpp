@@ -9,6 +9,8 @@
 #include <iostream>
 
 #include "measured_outputs.hpp"
+#include "mpi_world.hpp"
+#include "multistart.hpp"
 #include "pipeline.hpp"
 #include "study_events.hpp"
 #include "study_internal.hpp"
@@ -246,24 +248,31 @@ int design(Study& s) {
   for (const auto& name : s.opt.parameters) d.parameters.push_back(parameter_index(s.info(), name));
   d.measurements = measurements(s, d.ocp.t0, d.ocp.tf);
   d.criterion = criterion(s.opt.criterion);
-  if (!d.ocp.controls.empty())
-    for (const auto& spec : s.opt.starts)
-      d.starts.push_back(parse_signal(s.info().inputs[d.ocp.controls[0].input].name, spec));
-  if (s.cli.run && s.cli.run->progress) {
-    Progress* progress = s.cli.run->progress;
-    d.on_start = [progress](std::size_t k, std::size_t n, double best) {
-      progress->context(std::isfinite(best) ? fmt::format("start {} of {}, best so far {:.6g}", k + 1, n, best)
-                                            : fmt::format("start {} of {}", k + 1, n));
-    };
-  }
+  const std::vector<DesignStart> starts = design_starts(s.opt, d.ocp, s.info());
+  const MultistartSettings settings{s.cli.jobs, s.cli.output, s.opt.cluster_tol, s.cli.run};
+  std::optional<MultistartResult> multi;
   runtime::InputDesignResult r;
   {
     PhaseScope phase(s.cli.run, "solve", "input design");
-    r = runtime::design_input(*s.built.model, d);
+    if (starts.size() > 1) {
+      multi = run_multistart(*s.built.model, d, starts, settings);
+      if (!multi) return 0;  // an MPI rank other than 0: rank 0 writes the results
+      r = std::move(multi->best);
+    } else {
+      if (!mpi_world().root()) return 0;  // one start: rank 0 solves it
+      for (std::size_t c = 0; c < d.ocp.controls.size(); ++c)
+        if (starts[0].guesses[c]) d.ocp.controls[c].initial_guess = starts[0].guesses[c];
+      r = runtime::design_input(*s.built.model, d);
+      r.start_information = {r.optimization.ok() ? r.information_collocation : std::nan("")};
+    }
   }
   move_to_simulate(s.cli.run, r.optimization.timings.resimulation);
-  write_optimization_outputs(s.cli.output, s.info(), d.ocp, r.optimization,
-                             design_json(s.info(), d, r));
+  nlohmann::json extra = design_json(s.info(), d, r);
+  if (multi) {
+    extra["design"]["multistart"] = multistart_json(*multi, settings);
+    print_multistart(std::cerr, *multi, s.opt.criterion, settings);
+  }
+  write_optimization_outputs(s.cli.output, s.info(), d.ocp, r.optimization, extra);
   write_designed_input(s.cli.output, s.info(), d.ocp, r.optimization);
   if (s.opt.plot || s.cli.plot) {
     plot_optimization(s.cli.output, s.info(), d.ocp, s.problem,
@@ -361,6 +370,8 @@ std::vector<std::string> measured_names(const StudyOptions& o, const std::string
 using namespace detail;
 
 int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine& diags) {
+  const MpiWorld& world = mpi_world();
+  if (!world.root()) send_output_to_log(cli.output, world.rank);
   std::vector<OptionOverride> overrides;
   for (const auto& text : cli.overrides_text) {
     auto [name, value] = split_assignment(text, "--option");
@@ -407,11 +418,12 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
   Study s{flat, cli, std::move(parsed.options), std::move(*problem),
           build_model(*ode, cli.jobs, "morun", cli.run, cli.quiet)};
   fs::create_directories(cli.output);
+  if (!world.root() && s.opt.task != "design" && s.opt.task != "monte_carlo") return 0;  // rank 0 solves it
   const int status = s.opt.task == "design"        ? design(s)
                      : s.opt.task == "estimation"  ? estimation(s)
                      : s.opt.task == "monte_carlo" ? monte_carlo(s)
                                                    : optimal_control(s);
-  if (cli.run) record_timings(cli.output, cli.run->timings);
+  if (cli.run && world.root()) record_timings(cli.output, cli.run->timings);
   return status;
 }
 

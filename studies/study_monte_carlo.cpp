@@ -7,7 +7,10 @@
 // initial guesses, and record the estimate and its confidence interval. Per
 // case the summary gives the mean and spread of the estimates beside the
 // Cramér–Rao bound sqrt(diag F⁻¹) (F from the sensitivities at the truth) and
-// the coverage of the confidence intervals.
+// the coverage of the confidence intervals. The runs are independent tasks
+// of the parallel runner (parallel_runner.hpp: -j worker processes, MPI
+// ranks); their results are gathered in (case, seed) order, so the files do
+// not depend on how many processes solved them.
 #include <fmt/format.h>
 
 #include <chrono>
@@ -15,11 +18,13 @@
 #include <filesystem>
 #include <iostream>
 #include <nlohmann/json.hpp>
+#include <map>
 #include <random>
 
 #include "mo/runtime/result.hpp"
 #include "mo/runtime/simulate.hpp"
 #include "study_internal.hpp"
+#include "parallel_runner.hpp"
 #include "study_output.hpp"
 
 namespace fs = std::filesystem;
@@ -89,6 +94,46 @@ json case_json(const CaseStats& c, const std::vector<std::string>& names,
   return j;
 }
 
+/// One Monte-Carlo run (case c, seed): noisy data from an accurate simulation
+/// at the truth, then the estimate and its confidence interval, as JSON
+/// {ok, estimate, lo, hi, solve, simulate} (the last two in seconds).
+json monte_carlo_run(Study& s, const std::vector<runtime::FreeParameter>& free,
+                     const std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>>& signals,
+                     const runtime::MeasurementDesign& m, int seed, bool isolated) {
+  const runtime::ModelInfo& info = s.info();
+  const std::vector<double> truth_all = parameter_values(info, s.cli);
+  std::mt19937_64 rng(static_cast<unsigned long>(seed));
+  auto started = std::chrono::steady_clock::now();
+  runtime::EstimationProblem e;
+  runtime::EstimationExperiment ex;
+  ex.t0 = s.problem.t0;
+  ex.inputs = signals;
+  ex.data = noisy_data(*s.built.model, inputs_of(signals, info.inputs.size()), truth_all, s.problem.t0, m, rng);
+  e.experiments.push_back(std::move(ex));
+  double simulate_seconds = seconds_since(started), solve_seconds = 0;
+  e.parameters = free;
+  e.parameter_values = truth_all;
+  e.collocation = collocation_options(s.opt);
+  e.solver = solver_options(s);
+  e.solver.log_file.clear();  // concurrent runs would share one log
+  e.solver.progress = isolated ? nullptr : solver_progress(s.cli.run);
+  e.confidence = s.opt.confidence;
+  started = std::chrono::steady_clock::now();
+  const auto r = runtime::estimate_parameters(*s.built.model, e);
+  solve_seconds += seconds_since(started);
+  for (const auto& x : r.experiments) solve_seconds -= x.timings.resimulation, simulate_seconds += x.timings.resimulation;
+  const bool ok = (r.status == runtime::OptimizationStatus::success ||
+                   r.status == runtime::OptimizationStatus::acceptable) &&
+                  r.confidence_interval.size() == free.size();
+  json j{{"ok", ok}, {"solve", solve_seconds}, {"simulate", simulate_seconds}};
+  if (!ok) return j;
+  j["estimate"] = r.estimate;
+  std::vector<double> lo, hi;
+  for (const auto& ci : r.confidence_interval) lo.push_back(ci.lo), hi.push_back(ci.hi);
+  j["lo"] = lo, j["hi"] = hi;
+  return j;
+}
+
 }  // namespace
 
 int monte_carlo(Study& s) {
@@ -106,66 +151,64 @@ int monte_carlo(Study& s) {
     truth.push_back(truth_all[f.parameter]);
   }
   const runtime::MeasurementDesign m = measurements(s, s.problem.t0, s.problem.tf);
-  std::string csv = "case,seed";  // one row per successful estimate
-  for (const auto& n : names) csv += fmt::format(",{0},{0}:lo,{0}:hi", n);
-  csv += "\n";
-  json cases = json::array();
   RunContext* run = s.cli.run;
   Progress* progress = run ? run->progress : nullptr;
   if (progress) progress->stage("monte carlo");
   double simulate_seconds = 0, solve_seconds = 0;
-  for (std::size_t c = 0; c < s.opt.inputs.size(); ++c) {
-    const std::string spec = s.opt.inputs[c];
-    const auto signals = experiment_inputs(info, spec, s.cli.study_file);
-    CaseStats stats;
-    stats.input = spec;
-    auto started = std::chrono::steady_clock::now();
-    stats.fisher = runtime::fisher_information(*s.built.model, inputs_of(signals, info.inputs.size()),
-                                               truth_all, s.problem.t0, m, idx);
+  const std::size_t n_cases = s.opt.inputs.size(), seeds = static_cast<std::size_t>(s.opt.seeds);
+  std::vector<std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>>> signals;
+  std::vector<CaseStats> stats(n_cases);
+  for (std::size_t c = 0; c < n_cases; ++c) {
+    signals.push_back(experiment_inputs(info, s.opt.inputs[c], s.cli.study_file));
+    stats[c].input = s.opt.inputs[c];
+    const auto started = std::chrono::steady_clock::now();
+    stats[c].fisher = runtime::fisher_information(*s.built.model, inputs_of(signals[c], info.inputs.size()),
+                                                  truth_all, s.problem.t0, m, idx);
     simulate_seconds += seconds_since(started);
-    for (int seed = 1; seed <= s.opt.seeds; ++seed) {
-      if (progress)
-        progress->context(fmt::format("case {} of {}, {} of {} ({} failed)", c + 1, s.opt.inputs.size(), seed,
-                                      s.opt.seeds, stats.failures));
-      std::mt19937_64 rng(static_cast<unsigned long>(seed));
-      started = std::chrono::steady_clock::now();
-      runtime::EstimationProblem e;
-      runtime::EstimationExperiment ex;
-      ex.t0 = s.problem.t0;
-      ex.inputs = signals;
-      ex.data = noisy_data(*s.built.model, inputs_of(signals, info.inputs.size()), truth_all,
-                           s.problem.t0, m, rng);
-      e.experiments.push_back(std::move(ex));
-      simulate_seconds += seconds_since(started);
-      e.parameters = free;
-      e.parameter_values = truth_all;
-      e.collocation = collocation_options(s.opt);
-      e.solver = solver_options(s);
-      e.solver.progress = solver_progress(run);
-      e.confidence = s.opt.confidence;
-      started = std::chrono::steady_clock::now();
-      const auto r = runtime::estimate_parameters(*s.built.model, e);
-      solve_seconds += seconds_since(started);
-      for (const auto& x : r.experiments) solve_seconds -= x.timings.resimulation, simulate_seconds += x.timings.resimulation;
-      const bool ok = r.status == runtime::OptimizationStatus::success ||
-                      r.status == runtime::OptimizationStatus::acceptable;
-      if (!ok || r.confidence_interval.size() != names.size()) {
-        ++stats.failures;
-        continue;
-      }
-      bool in = true;
-      csv += fmt::format("{},{}", c + 1, seed);
-      for (std::size_t k = 0; k < names.size(); ++k) {
-        in = in && r.confidence_interval[k].lo <= truth[k] && truth[k] <= r.confidence_interval[k].hi;
-        csv += fmt::format(",{},{},{}", r.estimate[k], r.confidence_interval[k].lo,
-                           r.confidence_interval[k].hi);
-      }
-      csv += "\n";
-      stats.estimates.push_back(r.estimate);
-      stats.covered.push_back(in);
+  }
+  // Every (case, seed) is one task of the parallel runner: k = case·seeds + seed − 1.
+  std::size_t finished = 0;
+  ParallelTasks tasks;
+  tasks.count = n_cases * seeds;
+  tasks.jobs = s.cli.jobs;
+  tasks.solve = [&](std::size_t k, bool isolated) {
+    if (!isolated && progress)
+      progress->context(fmt::format("case {} of {}, {} of {}", k / seeds + 1, n_cases, k % seeds + 1, seeds));
+    return monte_carlo_run(s, free, signals[k / seeds], m, static_cast<int>(k % seeds + 1), isolated);
+  };
+  tasks.done = [&](std::size_t, const json&) {
+    if (progress && s.cli.jobs > 1)
+      progress->context(fmt::format("{} of {} runs done ({} processes)", ++finished, tasks.count, s.cli.jobs));
+  };
+  const std::vector<json> results = run_parallel(tasks);
+  if (results.empty()) return 0;  // an MPI rank other than 0: rank 0 writes the results
+  std::string csv = "case,seed";  // one row per successful estimate
+  for (const auto& n : names) csv += fmt::format(",{0},{0}:lo,{0}:hi", n);
+  csv += "\n";
+  for (std::size_t k = 0; k < results.size(); ++k) {
+    const json& j = results[k];
+    CaseStats& st = stats[k / seeds];
+    solve_seconds += j.value("solve", 0.0), simulate_seconds += j.value("simulate", 0.0);
+    if (!j.value("ok", false)) {
+      ++st.failures;
+      continue;
     }
-    const json cj = case_json(stats, names, truth);
-    const std::string line = fmt::format("morun: monte_carlo case {} ({}): {}", c + 1, spec, cj.dump());
+    const auto est = j.at("estimate").get<std::vector<double>>();
+    const auto lo = j.at("lo").get<std::vector<double>>(), hi = j.at("hi").get<std::vector<double>>();
+    bool in = true;
+    csv += fmt::format("{},{}", k / seeds + 1, k % seeds + 1);
+    for (std::size_t p = 0; p < names.size(); ++p) {
+      in = in && lo[p] <= truth[p] && truth[p] <= hi[p];
+      csv += fmt::format(",{},{},{}", est[p], lo[p], hi[p]);
+    }
+    csv += "\n";
+    st.estimates.push_back(est);
+    st.covered.push_back(in);
+  }
+  json cases = json::array();
+  for (std::size_t c = 0; c < n_cases; ++c) {
+    const json cj = case_json(stats[c], names, truth);
+    const std::string line = fmt::format("morun: monte_carlo case {} ({}): {}", c + 1, stats[c].input, cj.dump());
     if (progress)
       progress->println(line);
     else

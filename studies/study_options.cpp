@@ -161,6 +161,30 @@ Setter numbers_of(std::vector<T> StudyOptions::*field) {
   };
 }
 
+/// `starts`: a count of random starts, a list of signals, or a list of
+/// signals with one count among them (`{"const:0", 20}`).
+Setter starts_of() {
+  return [](const Value& v, StudyOptions& o) -> std::string {
+    const std::string expects = "expects a number of random starts, a list of signals, or both in one list";
+    std::vector<std::string> listed;
+    int random = 0, counts = 0;
+    const std::vector<Value> one{v};
+    for (const Value& item : v.kind == Value::List ? v.items : one) {
+      if (item.kind == Value::String) {
+        listed.push_back(item.text);
+        continue;
+      }
+      if (item.kind != Value::Number || item.number != std::floor(item.number) || item.number < 0 ||
+          item.number > 1e6 || ++counts > 1)
+        return expects;
+      random = static_cast<int>(item.number);
+    }
+    o.starts = std::move(listed);
+    o.random_starts = random;
+    return {};
+  };
+}
+
 const std::map<std::string, Setter>& setters() {
   using S = StudyOptions;
   static const std::map<std::string, Setter> table = {
@@ -186,7 +210,9 @@ const std::map<std::string, Setter>& setters() {
       {"sigma", numbers_of(&S::sigma)},
       {"measurements", integer_of(&S::measurements, 1)},
       {"measurement_times", numbers_of(&S::measurement_times)},
-      {"starts", strings_of(&S::starts)},
+      {"starts", starts_of()},
+      {"seed", integer_of(&S::seed, 0)},
+      {"cluster_tol", number_of(&S::cluster_tol)},
       {"data", strings_of(&S::data)},
       {"inputs", strings_of(&S::inputs)},
       {"confidence", number_of(&S::confidence)},

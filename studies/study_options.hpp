@@ -51,6 +51,9 @@ struct StudyOptions {
   int measurements = 100;                  ///< design: samples at t0 + k (tf - t0)/N, k = 1..N
   std::vector<double> measurement_times;   ///< design: explicit sample times (overrides)
   std::vector<std::string> starts;         ///< design: initial guesses of the first control
+  int random_starts = 0;                   ///< design: starts drawn at random besides those (`starts = N`)
+  int seed = 1;                            ///< design: seed of the random starts
+  double cluster_tol = 1e-4;               ///< design: relative tolerance that makes two optima one
   std::vector<std::string> data;           ///< estimation: one measurement CSV per experiment
   std::vector<std::string> inputs;         ///< estimation: per experiment "u=SPEC;v=SPEC"
   double confidence = 0.95;                ///< estimation: confidence level

@@ -29,6 +29,7 @@
 #include "plot.hpp"
 #include "progress.hpp"
 #include "result_columns.hpp"
+#include "parallel_runner.hpp"
 #include "study.hpp"
 #include "diagram_cli.hpp"
 
@@ -283,7 +284,12 @@ int main(int argc, char** argv) {
   app.add_flag("--plot", opt.plot, "Also write plots, PNG and SVG (needs gnuplot)");
   app.add_flag("-q,--quiet", opt.quiet,
                "No progress on stderr (by default work longer than 2 s reports its stage, at most once a second)");
-  app.add_option("-j,--jobs", opt.jobs, "Compile this many generated files in parallel")->capture_default_str();
+  opt.jobs = tools::default_jobs();
+  app.add_option("-j,--jobs", opt.jobs,
+                 "Parallel jobs: generated files compiled at once, and worker processes for the starts of a "
+                 "design and the runs of a Monte-Carlo study (default: the number of cores)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   app.add_option("--measure", opt.measure,
                  "Also write DIR/measurements.csv: these variables (outputs, states, algebraic variables, aliases) at the output times after 0")
       ->delimiter(',');

@@ -144,14 +144,19 @@ TEST_CASE("report: progress lines on stderr, none with --quiet; timings in study
   CHECK(r.err.find("morun: input design") != std::string::npos);  // the result is still reported
   check_timings(dir / "quiet");
 
-  // A multistart says which start it is on.
-  r = morun_env("MO_PROGRESS_SECONDS=0.05",
-                quoted(kCart + "CartPendulumDesign.opt") + " -L " + kOde + " -o " + quoted((dir / "multi").string()) +
-                    " --option n_e=20 --option measurements=20 --option 'starts={\"const:0\", \"sine:2,0.6\"}'",
-                dir);
+  // A multistart in one process says which start it is on; with worker
+  // processes, how many starts are done.
+  const std::string multi = quoted(kCart + "CartPendulumDesign.opt") + " -L " + kOde +
+                            " --option n_e=20 --option measurements=20 --option 'starts={\"const:0\", \"sine:2,0.6\"}'";
+  r = morun_env("MO_PROGRESS_SECONDS=0.05", multi + " -j 1 -o " + quoted((dir / "multi").string()), dir);
   INFO(r.err);
   REQUIRE(r.status == 0);
   CHECK(r.err.find("start 2 of 2, best so far") != std::string::npos);
+  r = morun_env("MO_PROGRESS_SECONDS=0.05", multi + " -j 2 -o " + quoted((dir / "multi2").string()), dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.err.find(" of 2 starts done (2 processes)") != std::string::npos);
+  CHECK(r.err.find("local optim") != std::string::npos);
 }
 
 TEST_CASE("report: estimation and Monte-Carlo summaries have timings; the fit has a confidence band") {
@@ -205,7 +210,7 @@ TEST_CASE("report: estimation and Monte-Carlo summaries have timings; the fit ha
 
   r = morun_env("MO_PROGRESS_SECONDS=0.05",
                 quoted(kCart + "CartPendulumMonteCarlo.opt") + " -L " + kOde + " -o " + quoted((dir / "mc").string()) +
-                    " --option seeds=2 --option n_e=50 --option measurements=50 --option " +
+                    " -j 1 --option seeds=2 --option n_e=50 --option measurements=50 --option " +
                     quoted("inputs={\"F=sine:3,1\"}"),
                 dir);
   INFO(r.err);
