@@ -7,6 +7,7 @@
 
 #include "e2e/support.hpp"
 #include "mo/runtime/simulate.hpp"
+#include "mo/symbolic/ode_interpreter.hpp"
 
 using namespace mo;
 using namespace mo::e2e;
@@ -123,4 +124,17 @@ TEST_CASE("an over-determined initial system is an error naming the equation") {
   CHECK_FALSE(ok);
   CHECK(text.find("OverDetermined.mo:5:3: error: the initial system is over-determined") != std::string::npos);
   CHECK(text.find("states declared fixed = true (each adds x = start): x") != std::string::npos);
+}
+
+TEST_CASE("inherited and array initial equations determine every state (interpreter, no compiler)") {
+  const tools::ModelSource src{std::string(MO_SOURCE_DIR) + "/tests/frontend/data/arrays/InheritedInitial.mo",
+                               "InheritedInitial", {}, true};
+  const symbolic::OdeModel m = lower_spec({src, {}});
+  std::vector<double> p;
+  for (const auto& par : m.parameters) p.push_back(par.value);
+  const std::vector<double> x0 = symbolic::OdeInterpreter(m).initial_state(p);
+  REQUIRE(x0.size() == 3);
+  CHECK(x0[m.state_index("x[1]").value()] == Approx(0.5).epsilon(1e-14));  // 1 - a x1 = 0
+  CHECK(x0[m.state_index("y").value()] == Approx(2.0).epsilon(1e-14));     // y = a
+  CHECK(x0[m.state_index("x[2]").value()] == Approx(2.0).epsilon(1e-14));  // y - x2 = 0
 }
