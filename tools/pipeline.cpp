@@ -11,6 +11,7 @@
 #include "mo/symbolic/sensitivities.hpp"
 
 #include "mo/symbolic/evaluator.hpp"
+#include "mo/symbolic/ode_interpreter.hpp"
 #include "mo/symbolic/lower.hpp"
 
 namespace fs = std::filesystem;
@@ -97,10 +98,11 @@ void expose_start_parameters(symbolic::OdeModel& model, const std::vector<std::s
     if (!name.ends_with(".start") || model.parameter_index(name)) continue;
     const auto x = model.state_index(name.substr(0, name.size() - 6));
     if (!x) continue;
-    symbolic::LeafValues defaults;
-    for (const auto& p : model.parameters) defaults[p.symbol] = p.value;
+    std::vector<double> defaults;
+    for (const auto& p : model.parameters) defaults.push_back(p.value);
+    // Through the initial system, if any; the parameter then replaces its solution.
+    const double value = symbolic::OdeInterpreter(model).initial_state(defaults)[*x];
     symbolic::OdeState& state = model.states[*x];
-    const double value = symbolic::evaluate(model.arena, std::span(&state.start, 1), defaults)[0];
     symbolic::OdeParameter p;
     p.info.name = name;
     p.info.description = "start value of " + state.info.name;

@@ -67,7 +67,11 @@ Derivatives build_derivatives(symbolic::OdeModel& m) {
     d.h_rows.push_back(symbolic::derivative_along(m, d.directional, y.value));
   std::vector<Expr> starts;  // one call: each call checks every seed
   for (const auto& x : m.states) starts.push_back(x.start);
-  d.x0_rows = symbolic::forward_derivative(a, starts, parameter_seeds);
+  // Through the initial system's blocks: the implicit function theorem.
+  d.initial_directional = symbolic::differentiate_steps(
+      m, m.initial_steps, parameter_seeds,
+      [&](const std::string& v) { return unused_name(a, "$jvp0(" + v + ")"); });
+  d.x0_rows = symbolic::forward_derivative(a, starts, d.initial_directional.derivative, false);
   return d;
 }
 

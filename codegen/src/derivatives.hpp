@@ -18,6 +18,7 @@ struct Derivatives {
   std::vector<symbolic::Expr> f_rows;  ///< d der(x_i); invalid handle if structurally zero
   std::vector<symbolic::Expr> h_rows;  ///< d y_j
   std::vector<symbolic::Expr> x0_rows; ///< d x0_i along σp
+  symbolic::Directional initial_directional;  ///< model.initial_steps along σp (x0_rows use it)
 };
 
 /// Builds the derivatives in model.arena.

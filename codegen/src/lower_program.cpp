@@ -1,6 +1,7 @@
 // OdeModel → Program: sections in the order the printed methods run them.
 #include <algorithm>
 #include <iterator>
+#include <limits>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -10,6 +11,7 @@
 #include "derivatives.hpp"
 #include "mo/codegen/program.hpp"
 #include "mo/symbolic/evaluator.hpp"
+#include "mo/symbolic/ode_interpreter.hpp"
 #include "mo/symbolic/event_tangents.hpp"
 #include "mo/symbolic/traversal.hpp"
 #include "section_builder.hpp"
@@ -176,25 +178,32 @@ private:
     for (Expr e : second_.seeds) slots_->of(e);
   }
 
-  void steps() {
-    new_section("steps", p_.steps);
-    auto b = builder({});
+  /// Emits model steps (assignments and blocks) into `section`; `what`
+  /// prefixes the blocks' descriptions.
+  void emit_steps(const std::vector<symbolic::Step>& steps, int section, detail::SectionBuilder& b,
+                  const std::string& what) {
     std::size_t number = 0;
-    for (const auto& step : m_.steps) {
-      Section& s = p_.sections[static_cast<std::size_t>(p_.steps)];
+    for (const auto& step : steps) {
+      Section& s = p_.sections[static_cast<std::size_t>(section)];
       if (const auto* as = std::get_if<symbolic::Assignment>(&step)) {
         b.assign(slots_->of(as->target), as->value, s);
         continue;
       }
       const auto& blk = std::get<symbolic::EquationBlock>(step);
-      std::string description = std::string(blk.linear ? "linear" : "nonlinear") + " block " +
+      std::string description = what + (blk.linear ? "linear" : "nonlinear") + " block " +
                                 std::to_string(++number) + " for " + names_of(arena(), blk.unknowns);
       const char* separator = "\n  equations: ";  // then where its equations are written
       for (const std::string& origin : blk.origins)
         if (!origin.empty()) description += std::exchange(separator, "\n    ") + origin;
-      b.block(blk, description, p_.sections[static_cast<std::size_t>(p_.steps)]);
+      b.block(blk, description, p_.sections[static_cast<std::size_t>(section)]);
       if (!blk.linear) bounds(blk, p_.blocks.back());
     }
+  }
+
+  void steps() {
+    new_section("steps", p_.steps);
+    auto b = builder({});
+    emit_steps(m_.steps, p_.steps, b, "");
     Section& s = p_.sections[static_cast<std::size_t>(p_.steps)];
     for (const auto& x : m_.states) p_.derivative_slots.push_back(b.root(x.derivative, s));
     after_steps_ = b.valid();
@@ -205,6 +214,8 @@ private:
   void bounds(const symbolic::EquationBlock& blk, BlockCode& code) {
     if (algebraic_info_.empty())
       for (const auto& v : m_.algebraics) algebraic_info_.emplace(v.symbol.id(), &v.info);
+    if (algebraic_info_.size() < m_.algebraics.size() + m_.initial_unknowns.size())
+      for (const auto& v : m_.initial_unknowns) algebraic_info_.emplace(v.symbol.id(), &v.info);
     for (Expr z : blk.unknowns) {
       symbolic::VariableInfo info;
       if (auto it = algebraic_info_.find(z.id()); it != algebraic_info_.end()) info = *it->second;
@@ -224,16 +235,18 @@ private:
   void starts() {
     new_section("starts", p_.starts);
     auto b = builder({});
+    emit_steps(m_.initial_steps, p_.starts, b, "initial system: ");
     for (const auto& x : m_.states)
       p_.start_slots.push_back(b.root(x.start, p_.sections[static_cast<std::size_t>(p_.starts)]));
     after_starts_ = b.valid();
-    // Start values at the default parameters, for info().
-    symbolic::LeafValues values;
-    for (const auto& par : m_.parameters) values[par.symbol] = par.value;
-    std::vector<Expr> starts;
-    for (const auto& x : m_.states) starts.push_back(x.start);
+    // Start values at the default parameters, for info() (NaN where the
+    // initial system has no solution there: the run time reports it).
+    std::vector<double> p;
+    for (const auto& par : m_.parameters) p.push_back(par.value);
     try {
-      p_.start_values = symbolic::evaluate(m_.arena, starts, values);
+      p_.start_values = symbolic::OdeInterpreter(m_).initial_state(p);
+    } catch (const symbolic::BlockFailure&) {
+      p_.start_values.assign(m_.states.size(), std::numeric_limits<double>::quiet_NaN());
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("code generation: a start value depends on "
                                               "something other than parameters: ") + e.what());
@@ -364,11 +377,12 @@ private:
     const std::vector<Slot> h_slots = row_slots(bo, jvp_outputs, d.h_rows);
     new_section("jvp_starts", jvp_starts);
     auto bs = builder(after_starts_);
+    emit_steps(d.initial_directional.steps, jvp_starts, bs, "Jacobian-vector product of the initial system: ");
     const std::vector<Slot> x0_slots = row_slots(bs, jvp_starts, d.x0_rows);
 
     const auto f_cols = detail::row_columns(arena(), d, d.f_rows);
     const auto h_cols = detail::row_columns(arena(), d, d.h_rows);
-    const auto x0_cols = detail::row_columns(arena(), d, d.x0_rows);
+    const auto x0_cols = detail::seed_columns(arena(), d.seeds, {&d.initial_directional.steps}, d.x0_rows);
     struct Spec {
       const std::vector<std::vector<int>>* rows;
       const std::vector<Slot>* slots;

@@ -55,6 +55,7 @@ public:
   void initial_state(std::span<const double> p, std::span<double> x0) override {
     reset();
     load(0.0, {}, {}, p);
+    std::fill(w_.begin() + u_slot, w_.begin() + u_slot + nu, 0.0);  // the initial system sees u = 0
     section_starts();
     for (std::size_t i = 0; i < nx; ++i) x0[i] = w_[static_cast<std::size_t>(start_slots[i])];
   }

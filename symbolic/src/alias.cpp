@@ -239,6 +239,7 @@ private:
     }
     for (auto& d : dae_.vars)
       if (!d.eliminated && d.start.valid()) targets.push_back(&d.start);
+    for (auto& eq : dae_.initial_eqs) targets.push_back(&eq.residual);
     substitute_in_place(a_, targets, all_);
   }
 

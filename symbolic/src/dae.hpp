@@ -56,6 +56,9 @@ struct Dae {
   Expr time;
   std::vector<DaeVar> vars;
   std::vector<DaeEq> eqs;
+  /// The `initial equation` sections: 0 = residual at t0 only (over the same
+  /// symbols; alias elimination substitutes into them too).
+  std::vector<DaeEq> initial_eqs;
   std::vector<OdeInput> inputs;
   std::vector<OdeParameter> parameters;
   std::vector<OdeDiscrete> discrete;

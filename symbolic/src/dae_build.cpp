@@ -69,6 +69,7 @@ public:
     for (auto& u : dae_.inputs) info_of_[u.symbol] = &u.info;
     for (std::size_t i = 0; i < f_.variables.size(); ++i) attributes(static_cast<int>(i));
     for (const ast::Equation& eq : f_.equations) equation(eq);
+    initial_equations();
     outputs();
     if (!conv_->ok() || !ok_) return std::nullopt;
     return std::move(dae_);
@@ -199,6 +200,7 @@ private:
   }
 
   void equation(const ast::Equation& eq);
+  void initial_equations();
   void if_equation(const ast::Equation& eq);
   void when_equation(const ast::Equation& eq);
   void outputs();
@@ -245,6 +247,39 @@ void Builder::equation(const ast::Equation& eq) {
 
 /// if c1 then A elseif c2 then B else C end if, every branch with the same
 /// number of simple equations: residual_i = if c1 then a_i else if c2 ...
+/// The initial equations as residuals. They may use der(x) only of variables
+/// the model's equations differentiate: a derivative that only an initial
+/// equation mentions would be an unknown no equation of the model determines.
+void Builder::initial_equations() {
+  const std::size_t vars_before = dae_.vars.size();
+  for (const ast::Equation& eq : f_.initial_equations) {
+    switch (eq.kind) {
+    case ast::EquationKind::Simple: {
+      DaeEq e;
+      e.residual = dae_.arena.sub(conv_->convert(*eq.lhs), conv_->convert(*eq.rhs));
+      e.range = eq.range;
+      dae_.initial_eqs.push_back(e);
+      if (dae_.vars.size() != vars_before) {
+        error(DiagId::UnsupportedInLowering, eq.range,
+              "der() of a variable that the model's equations do not differentiate");
+        return;
+      }
+      continue;
+    }
+    case ast::EquationKind::Call:
+      if (eq.lhs->ref.str() == "assert") continue;
+      break;
+    case ast::EquationKind::If:
+    case ast::EquationKind::When:
+    case ast::EquationKind::Connect:
+    case ast::EquationKind::For:
+    case ast::EquationKind::Constraint: break;
+    }
+    error(DiagId::UnsupportedInLowering, eq.range,
+          "only simple equations (lhs = rhs) are supported in an initial equation section");
+  }
+}
+
 void Builder::if_equation(const ast::Equation& eq) {
   std::vector<std::vector<Expr>> branch_residuals;
   for (const auto& br : eq.branches) {

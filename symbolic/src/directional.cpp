@@ -11,13 +11,14 @@ namespace {
 
 class Differentiator {
 public:
-  Differentiator(OdeModel& m, const ExprMap& seeds, const DerivativeNamer& namer)
-      : m_(m), a_(m.arena), namer_(namer) {
+  Differentiator(OdeModel& m, const std::vector<Step>& steps, const ExprMap& seeds,
+                 const DerivativeNamer& namer)
+      : m_(m), steps_(steps), a_(m.arena), namer_(namer) {
     out_.derivative = seeds;
   }
 
   Directional run() {
-    for (const Step& s : m_.steps) {
+    for (const Step& s : steps_) {
       if (const auto* as = std::get_if<Assignment>(&s))
         assignment(*as);
       else
@@ -73,6 +74,7 @@ private:
   }
 
   OdeModel& m_;
+  const std::vector<Step>& steps_;
   ExprArena& a_;
   const DerivativeNamer& namer_;
   Directional out_;
@@ -82,12 +84,17 @@ private:
 
 Directional differentiate_steps(OdeModel& model, const ExprMap& seeds,
                                 const DerivativeNamer& namer) {
+  return differentiate_steps(model, model.steps, seeds, namer);
+}
+
+Directional differentiate_steps(OdeModel& model, const std::vector<Step>& steps,
+                                const ExprMap& seeds, const DerivativeNamer& namer) {
   for (const auto& [leaf, value] : seeds) {
     (void)value;
     if (!model.arena.is_leaf(leaf))
       throw std::invalid_argument("differentiate_steps: a seed key is not a leaf");
   }
-  return Differentiator(model, seeds, namer).run();
+  return Differentiator(model, steps, seeds, namer).run();
 }
 
 Expr derivative_along(OdeModel& model, const Directional& d, Expr e) {

@@ -8,6 +8,7 @@
 #include "alias.hpp"
 #include "dae_build.hpp"
 #include "index_reduction.hpp"
+#include "initial_system.hpp"
 #include "mo/symbolic/evaluator.hpp"
 #include "mo/symbolic/printer.hpp"
 #include "mo/symbolic/structure.hpp"
@@ -102,7 +103,9 @@ public:
     start_values_ = start_values(dae_);
     for (const auto& blk : blocks) block(out, blk);
     finish(out);
+    InitialInput init = initial_input();
     out.arena = std::move(dae_.arena);
+    lower_initial_system(out, init, diags_);
     return out;
   }
 
@@ -251,6 +254,25 @@ private:
     }
     for (const auto& w : out.whens) roots.push_back(w.condition);
     collect_zero_crossings(a(), roots, out.zero_crossings);
+  }
+
+  /// The initial equations, fixed algebraic variables and Newton guesses over
+  /// the final symbols (initial_system.hpp).
+  InitialInput initial_input() {
+    InitialInput in;
+    std::vector<Expr*> targets;
+    for (DaeEq& e : dae_.initial_eqs) targets.push_back(&e.residual);
+    substitute_in_place(a(), targets, map_);
+    for (const DaeEq& e : dae_.initial_eqs) in.equations.push_back({e.residual, e.range, origin(e.range)});
+    for (std::size_t v = 0; v < dae_.vars.size(); ++v) {
+      const DaeVar& d = dae_.vars[v];
+      const auto it = map_.find(d.symbol);
+      if (d.eliminated || it == map_.end()) continue;
+      in.guess[it->second] = start_values_[v];
+      if (d.fixed && !state_[v] && a().symbol_info(it->second).role == SymbolRole::Algebraic)
+        in.fixed_algebraics.emplace_back(it->second, substitute(a(), d.start, map_));
+    }
+    return in;
   }
 
   Dae& dae_;

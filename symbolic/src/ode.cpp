@@ -127,6 +127,17 @@ std::string print_ode(const OdeModel& m) {
   const ExprArena& a = m.arena;
   std::string out = "model " + modelica_name(m.name) + "\n";
   print_declarations(m, out);
+  if (!m.initial_steps.empty()) {
+    // Comments: the $init symbols are not variables of the printed model.
+    std::string init;
+    for (const Step& s : m.initial_steps) print_step(a, s, init);
+    out += "  // initial system, solved at t0 before the start values that use its $init(...) unknowns:\n";
+    for (std::size_t i = 0; i < init.size();) {
+      const std::size_t end = init.find('\n', i);
+      out += "  //" + init.substr(i, end - i) + "\n";
+      i = end == std::string::npos ? init.size() : end + 1;
+    }
+  }
   out += "equation\n";
   for (const Step& s : m.steps) print_step(a, s, out);
   for (const auto& y : m.outputs)

@@ -37,27 +37,41 @@ bool gauss_solve(std::vector<double>& A, std::vector<double>& b) {
 
 }  // namespace
 
-OdeInterpreter::OdeInterpreter(const OdeModel& model) : m_(model) {
-  for (const Step& s : m_.steps) {
+namespace {
+
+std::vector<std::vector<Evaluator>> step_evaluators(const ExprArena& arena, const std::vector<Step>& steps) {
+  std::vector<std::vector<Evaluator>> out;
+  for (const Step& s : steps) {
     std::vector<Evaluator> evals;
     if (const auto* a = std::get_if<Assignment>(&s)) {
-      evals.emplace_back(m_.arena, std::span(&a->value, 1));
+      evals.emplace_back(arena, std::span(&a->value, 1));
     } else {
       const auto& b = std::get<EquationBlock>(s);
-      for (const BlockEntry& e : b.jacobian) evals.emplace_back(m_.arena, std::span(&e.value, 1));
+      for (const BlockEntry& e : b.jacobian) evals.emplace_back(arena, std::span(&e.value, 1));
       const auto& rest = b.linear ? b.offset : b.residuals;
-      for (const Expr& r : rest) evals.emplace_back(m_.arena, std::span(&r, 1));
+      for (const Expr& r : rest) evals.emplace_back(arena, std::span(&r, 1));
     }
-    step_evals_.push_back(std::move(evals));
+    out.push_back(std::move(evals));
   }
+  return out;
 }
 
+}  // namespace
+
+OdeInterpreter::OdeInterpreter(const OdeModel& model)
+    : m_(model), step_evals_(step_evaluators(model.arena, model.steps)),
+      initial_evals_(step_evaluators(model.arena, model.initial_steps)) {}
+
 std::vector<double> OdeInterpreter::initial_state(std::span<const double> p) const {
-  LeafValues v;
-  for (std::size_t k = 0; k < m_.parameters.size(); ++k) v[m_.parameters[k].symbol] = p[k];
-  std::vector<Expr> starts;
-  for (const auto& s : m_.states) starts.push_back(s.start);
-  return evaluate(m_.arena, starts, v);
+  values_.clear();
+  values_[m_.time] = 0.0;
+  for (const auto& u : m_.inputs) values_[u.symbol] = 0.0;
+  for (std::size_t k = 0; k < m_.parameters.size(); ++k) values_[m_.parameters[k].symbol] = p[k];
+  for (const auto& d : m_.discrete) values_[d.symbol] = d.start;
+  run(m_.initial_steps, initial_evals_);
+  std::vector<double> out;
+  for (const auto& s : m_.states) out.push_back(eval(Evaluator(m_.arena, std::span(&s.start, 1))));
+  return out;
 }
 
 void OdeInterpreter::load(double t, std::span<const double> x, std::span<const double> u,
@@ -71,7 +85,7 @@ void OdeInterpreter::load(double t, std::span<const double> x, std::span<const d
   }
 }
 
-double OdeInterpreter::eval(const Evaluator& e) {
+double OdeInterpreter::eval(const Evaluator& e) const {
   args_.clear();
   for (Expr l : e.leaves()) {
     // pre(d) between events equals d.
@@ -84,9 +98,9 @@ double OdeInterpreter::eval(const Evaluator& e) {
   return out;
 }
 
-void OdeInterpreter::solve_linear(const EquationBlock& b, std::size_t index) {
+void OdeInterpreter::solve_linear(const EquationBlock& b, const std::vector<Evaluator>& evals,
+                                  std::size_t index) const {
   const std::size_t n = b.unknowns.size();
-  const auto& evals = step_evals_[index];
   std::vector<double> A(n * n, 0.0), rhs(n);
   for (std::size_t k = 0; k < b.jacobian.size(); ++k)
     A[b.jacobian[k].row * n + b.jacobian[k].col] = eval(evals[k]);
@@ -96,9 +110,9 @@ void OdeInterpreter::solve_linear(const EquationBlock& b, std::size_t index) {
   for (std::size_t i = 0; i < n; ++i) values_[b.unknowns[i]] = rhs[i];
 }
 
-void OdeInterpreter::solve_nonlinear(const EquationBlock& b, std::size_t index) {
+void OdeInterpreter::solve_nonlinear(const EquationBlock& b, const std::vector<Evaluator>& evals,
+                                     std::size_t index) const {
   const std::size_t n = b.unknowns.size();
-  const auto& evals = step_evals_[index];
   for (std::size_t i = 0; i < n; ++i)
     if (!values_.contains(b.unknowns[i])) values_[b.unknowns[i]] = b.start[i];
   for (int iter = 0; iter < 50; ++iter) {
@@ -118,17 +132,18 @@ void OdeInterpreter::solve_nonlinear(const EquationBlock& b, std::size_t index) 
                                  n, index));
 }
 
-void OdeInterpreter::run_steps() {
-  for (std::size_t i = 0; i < m_.steps.size(); ++i) {
-    if (const auto* a = std::get_if<Assignment>(&m_.steps[i])) {
-      values_[a->target] = eval(step_evals_[i][0]);
+void OdeInterpreter::run(const std::vector<Step>& steps,
+                         const std::vector<std::vector<Evaluator>>& evals) const {
+  for (std::size_t i = 0; i < steps.size(); ++i) {
+    if (const auto* a = std::get_if<Assignment>(&steps[i])) {
+      values_[a->target] = eval(evals[i][0]);
       continue;
     }
-    const auto& b = std::get<EquationBlock>(m_.steps[i]);
+    const auto& b = std::get<EquationBlock>(steps[i]);
     if (b.linear)
-      solve_linear(b, i);
+      solve_linear(b, evals[i], i);
     else
-      solve_nonlinear(b, i);
+      solve_nonlinear(b, evals[i], i);
   }
 }
 

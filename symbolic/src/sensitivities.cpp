@@ -72,16 +72,15 @@ bool touches_events(const OdeModel& m, const std::unordered_set<Expr, ExprHash>&
 /// over leaves (parameter → steps reading it → their targets → states whose
 /// derivative they are → steps reading those states ...), linear in the model.
 std::vector<bool> influenced_states(const OdeModel& m, const std::vector<StepLeaves>& steps,
-                                    const Users& u, Expr p, std::size_t nx) {
+                                    const Users& u, Expr p, std::size_t nx,
+                                    const std::vector<Expr>& start_derivative) {
   std::vector<bool> hit(nx, false), step_done(steps.size(), false);
   std::vector<Expr> work{p};
-  for (std::size_t i = 0; i < nx; ++i) {
-    for (Expr l : leaves(m.arena, std::span(&m.states[i].start, 1)))
-      if (l == p && !hit[i]) {
-        hit[i] = true;
-        work.push_back(m.states[i].symbol);
-      }
-  }
+  for (std::size_t i = 0; i < nx; ++i)
+    if (!m.arena.is_constant(start_derivative[i], 0.0)) {
+      hit[i] = true;
+      work.push_back(m.states[i].symbol);
+    }
   std::unordered_set<Expr, ExprHash> reached{p};
   while (!work.empty()) {
     const Expr leaf = work.back();
@@ -116,13 +115,24 @@ struct Additions {
   std::vector<Step> steps;
   std::vector<OdeAlgebraic> algebraics;
   std::vector<OdeOutput> outputs;
+  std::vector<Step> initial_steps;  ///< ∂/∂p of the initial system's blocks
+  std::vector<OdeAlgebraic> initial_unknowns;
 };
 
 void add_for_parameter(OdeModel& m, const std::vector<StepLeaves>& steps, const Users& u,
                        std::size_t k, std::size_t nx, std::size_t ny, Additions& add) {
   const OdeParameter par = m.parameters[k];
-  const std::vector<bool> hit = influenced_states(m, steps, u, par.symbol, nx);
   ExprArena& a = m.arena;
+  // ∂x0/∂p through the initial system (implicit function theorem on its blocks).
+  const Directional init = differentiate_steps(
+      m, m.initial_steps, ExprMap{{par.symbol, a.constant(1.0)}},
+      [&](const std::string& v) { return sensitivity_name(v, par.info.name); });
+  std::vector<Expr> start_derivative;
+  for (std::size_t i = 0; i < nx; ++i)
+    start_derivative.push_back(derivative_along(m, init, m.states[i].start));
+  add.initial_steps.insert(add.initial_steps.end(), init.steps.begin(), init.steps.end());
+  add.initial_unknowns.insert(add.initial_unknowns.end(), init.symbols.begin(), init.symbols.end());
+  const std::vector<bool> hit = influenced_states(m, steps, u, par.symbol, nx, start_derivative);
   ExprMap seeds{{par.symbol, a.constant(1.0)}};
   std::vector<std::size_t> new_states;
   for (std::size_t i = 0; i < nx; ++i) {
@@ -135,7 +145,7 @@ void add_for_parameter(OdeModel& m, const std::vector<StepLeaves>& steps, const 
     const auto index = static_cast<std::int32_t>(m.states.size());
     s.symbol = a.symbol(s.info.name, SymbolRole::State, index);
     s.derivative = a.symbol("der(" + s.info.name + ")", SymbolRole::Derivative, index);
-    s.start = derivative(a, x.start, par.symbol);
+    s.start = start_derivative[i];
     s.fixed = x.fixed;
     s.sensitivity = SensitivityOf{i, k};
     seeds[x.symbol] = s.symbol;
@@ -187,6 +197,8 @@ void add_sensitivities(OdeModel& model, std::span<const std::size_t> parameters)
   append(model.steps, add.steps);
   append(model.algebraics, add.algebraics);
   append(model.outputs, add.outputs);
+  append(model.initial_steps, add.initial_steps);
+  append(model.initial_unknowns, add.initial_unknowns);
 }
 
 }  // namespace mo::symbolic

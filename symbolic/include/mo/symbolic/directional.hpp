@@ -40,6 +40,11 @@ using DerivativeNamer = std::function<std::string(const std::string& variable)>;
 Directional differentiate_steps(OdeModel& model, const ExprMap& seeds,
                                 const DerivativeNamer& namer);
 
+/// The same for another step list of the model (e.g. model.initial_steps,
+/// whose targets the start expressions use).
+Directional differentiate_steps(OdeModel& model, const std::vector<Step>& steps,
+                                const ExprMap& seeds, const DerivativeNamer& namer);
+
 /// The derivative of `e` given a Directional's derivative map.
 Expr derivative_along(OdeModel& model, const Directional& d, Expr e);
 

@@ -2,7 +2,10 @@
 //
 //   der(x) = f(x, u, p, t, d)     computed by `steps` in order,
 //   y      = h(x, u, p, t, d)     outputs: expressions over anything the steps computed,
-//   x(t0)  = x0(p)                start expressions over parameters,
+//   x(t0)  = x0(p)                start expressions over parameters (and the
+//                                 symbols `initial_steps` solve for, when the
+//                                 model has initial equations: the initial
+//                                 system's blocks, run before the starts),
 //
 // Every unknown other than the states is an Algebraic symbol assigned by one
 // step; each state's derivative is a Derivative symbol assigned by one step.
@@ -144,6 +147,11 @@ struct OdeModel {
   std::vector<Step> steps;          ///< evaluation order
   std::vector<OdeOutput> outputs;   ///< declared outputs (and output sensitivities)
   std::vector<OdeOutput> eliminated;  ///< aliases and other removed variables, for results
+  /// Blocks of the initial system (and what follows from them), evaluated at
+  /// t = 0 with inputs 0 before the start expressions, which may use their
+  /// unknowns; empty when every start value is an expression over parameters.
+  std::vector<Step> initial_steps;
+  std::vector<OdeAlgebraic> initial_unknowns;  ///< the symbols initial_steps assign
   std::vector<Expr> zero_crossings; ///< event indicators: sign changes are events
   std::vector<WhenClause> whens;
 

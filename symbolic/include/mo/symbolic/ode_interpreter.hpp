@@ -26,7 +26,8 @@ public:
   /// Prepares evaluators for every step; `model` must outlive the interpreter.
   explicit OdeInterpreter(const OdeModel& model);
 
-  /// x0(p), one value per state.
+  /// x0(p), one value per state: the initial steps (at t = 0, inputs 0),
+  /// then the start expressions. Throws BlockFailure if a block fails.
   std::vector<double> initial_state(std::span<const double> p) const;
   /// der(x) at (t, x, u, p) with discrete variables d (empty: their starts).
   std::vector<double> rhs(double t, std::span<const double> x, std::span<const double> u,
@@ -40,15 +41,18 @@ public:
 private:
   void load(double t, std::span<const double> x, std::span<const double> u,
             std::span<const double> p, std::span<const double> d);
-  void run_steps();
-  double eval(const Evaluator& e);
-  void solve_linear(const EquationBlock& b, std::size_t index);
-  void solve_nonlinear(const EquationBlock& b, std::size_t index);
+  void run_steps() const { run(m_.steps, step_evals_); }
+  void run(const std::vector<Step>& steps, const std::vector<std::vector<Evaluator>>& evals) const;
+  double eval(const Evaluator& e) const;
+  void solve_linear(const EquationBlock& b, const std::vector<Evaluator>& evals, std::size_t index) const;
+  void solve_nonlinear(const EquationBlock& b, const std::vector<Evaluator>& evals, std::size_t index) const;
 
   const OdeModel& m_;
   std::vector<std::vector<Evaluator>> step_evals_;  ///< per step: its expressions
-  LeafValues values_;
-  std::vector<double> args_, work_;
+  std::vector<std::vector<Evaluator>> initial_evals_;  ///< per initial step
+  // Scratch state of one evaluation (initial_state() is const but solves blocks).
+  mutable LeafValues values_;
+  mutable std::vector<double> args_, work_;
 };
 
 }  // namespace mo::symbolic

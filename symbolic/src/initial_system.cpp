@@ -1,0 +1,261 @@
+// The initial system at t0; see initial_system.hpp.
+#include "initial_system.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <unordered_set>
+
+#include "mo/symbolic/structure.hpp"
+#include "mo/symbolic/substitute.hpp"
+#include "mo/symbolic/traversal.hpp"
+#include "solve.hpp"
+#include "tiered_matching.hpp"
+
+namespace mo::symbolic::detail {
+
+using frontend::DiagId;
+
+namespace {
+
+/// Where a row of the initial system comes from.
+enum class RowKind {
+  Model,     ///< a residual of the model's steps
+  Initial,   ///< an initial equation
+  Fixed,     ///< v = start of a variable declared fixed = true
+  StartGuess ///< x = start of a state, used only if the system needs it
+};
+
+struct Row {
+  Expr residual;
+  RowKind kind;
+  std::string origin;           ///< for messages
+  frontend::SourceRange range;  ///< initial equations only
+  std::size_t state = 0;        ///< StartGuess and fixed states: the state's index
+};
+
+class InitialSystem {
+public:
+  InitialSystem(OdeModel& m, const InitialInput& in, frontend::DiagnosticEngine& diags)
+      : m_(m), a_(m.arena), in_(in), diags_(diags) {}
+
+  bool run() {
+    unknowns();
+    rows();
+    const std::vector<int> col_of = match();
+    if (!check(col_of)) return false;
+    warn_free_states(col_of);
+    solve(col_of);
+    return true;
+  }
+
+private:
+  void add_unknown(Expr s, double guess) {
+    local_.emplace(s, static_cast<int>(unknowns_.size()));
+    unknowns_.push_back(s);
+    guess_.push_back(guess);
+  }
+
+  double guess_of(Expr s) const {
+    const auto it = in_.guess.find(s);
+    return it == in_.guess.end() ? 0.0 : it->second;
+  }
+
+  void unknowns() {
+    for (const OdeState& x : m_.states) add_unknown(x.symbol, guess_of(x.symbol));
+    for (const OdeState& x : m_.states) add_unknown(x.derivative, 0.0);
+    for (const OdeAlgebraic& y : m_.algebraics) add_unknown(y.symbol, guess_of(y.symbol));
+  }
+
+  void rows() {
+    for (const Step& s : m_.steps) {
+      if (const auto* as = std::get_if<Assignment>(&s)) {
+        rows_.push_back({a_.sub(as->target, as->value), RowKind::Model, as->origin, {}, 0});
+        continue;
+      }
+      const auto& b = std::get<EquationBlock>(s);
+      for (std::size_t i = 0; i < b.residuals.size(); ++i)
+        rows_.push_back({b.residuals[i], RowKind::Model, i < b.origins.size() ? b.origins[i] : "", {}, 0});
+    }
+    for (const InitialEquation& e : in_.equations)
+      rows_.push_back({e.residual, RowKind::Initial, e.origin, e.range, 0});
+    for (std::size_t i = 0; i < m_.states.size(); ++i) {
+      const OdeState& x = m_.states[i];
+      const RowKind k = x.fixed ? RowKind::Fixed : RowKind::StartGuess;
+      rows_.push_back({a_.sub(x.symbol, x.start), k, x.info.name + " = its start value", {}, i});
+    }
+    for (const auto& [v, start] : in_.fixed_algebraics)
+      rows_.push_back({a_.sub(v, start), RowKind::Fixed,
+                       a_.symbol_info(v).name + " = its start value (fixed = true)", {}, 0});
+  }
+
+  /// Required rows first (cost 0), then the optional x = start (cost 1),
+  /// last (cost 2) those of states the initial equations mention (x or
+  /// der(x)): an initial equation about x is meant to determine x.
+  std::vector<int> match() {
+    std::unordered_set<Expr, ExprHash> mentioned;
+    for (const InitialEquation& e : in_.equations)
+      for (Expr l : leaves(a_, std::span(&e.residual, 1))) mentioned.insert(l);
+    std::vector<std::vector<CostEdge>> edges;
+    for (const Row& r : rows_) {
+      std::vector<CostEdge> row;
+      int cost = 0;
+      if (r.kind == RowKind::StartGuess) {
+        const OdeState& x = m_.states[r.state];
+        cost = mentioned.contains(x.symbol) || mentioned.contains(x.derivative) ? 2 : 1;
+      }
+      for (Expr l : leaves(a_, std::span(&r.residual, 1)))
+        if (auto it = local_.find(l); it != local_.end()) row.push_back({it->second, cost});
+      edges.push_back(std::move(row));
+    }
+    return tiered_matching(edges, static_cast<int>(unknowns_.size()));
+  }
+
+  /// Every required row and every unknown matched, else a diagnostic.
+  bool check(const std::vector<int>& col_of) {
+    std::vector<const Row*> over;
+    for (std::size_t r = 0; r < rows_.size(); ++r)
+      if (col_of[r] < 0 && rows_[r].kind != RowKind::StartGuess) over.push_back(&rows_[r]);
+    if (!over.empty()) {
+      report_overdetermined(over);
+      return false;
+    }
+    std::vector<bool> matched(unknowns_.size(), false);
+    for (int c : col_of)
+      if (c >= 0) matched[static_cast<std::size_t>(c)] = true;
+    std::string missing;
+    for (std::size_t j = 0; j < unknowns_.size(); ++j)
+      if (!matched[j]) missing += (missing.empty() ? "" : ", ") + a_.symbol_info(unknowns_[j]).name;
+    if (missing.empty()) return true;
+    diags_.report(DiagId::StructurallySingular, first_initial_range(),
+                  "the initial system is singular: no equation determines " + missing);
+    return false;
+  }
+
+  frontend::SourceRange first_initial_range() const {
+    return in_.equations.empty() ? frontend::SourceRange{} : in_.equations.front().range;
+  }
+
+  void report_overdetermined(const std::vector<const Row*>& over) {
+    const Row& first = *over.front();
+    const frontend::SourceRange at = first.range.valid() ? first.range : first_initial_range();
+    diags_.report(DiagId::InitialOverdetermined, at,
+                  fmt::format("the initial system is over-determined: {} equation{} more than the "
+                              "unknowns at t0 allow; with the others, this one has no unknown left: {}",
+                              over.size(), over.size() == 1 ? "" : "s", first.origin));
+    for (std::size_t i = 1; i < over.size() && i < 10; ++i)
+      diags_.note(over[i]->range, "also left without an unknown: " + over[i]->origin);
+    std::string fixed;
+    for (const OdeState& x : m_.states)
+      if (x.fixed) fixed += (fixed.empty() ? "" : ", ") + x.info.name;
+    if (!fixed.empty())
+      diags_.note(at, "states declared fixed = true (each adds x = start): " + fixed);
+  }
+
+  /// OpenModelica's note for an under-determined initial system.
+  void warn_free_states(const std::vector<int>& col_of) {
+    std::string names;
+    std::size_t n = 0;
+    for (std::size_t r = 0; r < rows_.size(); ++r)
+      if (rows_[r].kind == RowKind::StartGuess && col_of[r] >= 0) {
+        if (n++ < 10) names += (names.empty() ? "" : ", ") + m_.states[rows_[r].state].info.name;
+      }
+    if (n == 0) return;
+    if (n > 10) names += fmt::format(", ... ({} states)", n);
+    diags_.report(DiagId::InitialStartFixed, first_initial_range(),
+                  "the initial equations leave " + std::to_string(n) +
+                      " state(s) free; they start at their start values: " + names);
+  }
+
+  void solve(const std::vector<int>& col_of) {
+    std::vector<int> kept;
+    std::vector<std::vector<int>> lists;
+    for (std::size_t r = 0; r < rows_.size(); ++r) {
+      if (col_of[r] < 0) continue;
+      kept.push_back(static_cast<int>(r));
+      std::vector<int> row;
+      for (Expr l : leaves(a_, std::span(&rows_[r].residual, 1)))
+        if (auto it = local_.find(l); it != local_.end()) row.push_back(it->second);
+      lists.push_back(std::move(row));
+    }
+    const Incidence g = Incidence::from_lists(static_cast<int>(unknowns_.size()), lists);
+    Matching m;
+    m.unknown_of.resize(kept.size());
+    m.equation_of.assign(unknowns_.size(), -1);
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      m.unknown_of[i] = col_of[static_cast<std::size_t>(kept[i])];
+      m.equation_of[static_cast<std::size_t>(m.unknown_of[i])] = static_cast<int>(i);
+    }
+    m.size = static_cast<int>(kept.size());
+    for (const auto& blk : blt_blocks(g, m)) block(blk, kept, m);
+    for (OdeState& x : m_.states) x.start = values_.at(x.symbol);
+  }
+
+  /// Solves one BLT block over the original symbols, then expresses it in
+  /// the values found so far: a closed form, or a step over fresh symbols.
+  void block(const std::vector<int>& blk, const std::vector<int>& kept, const Matching& m) {
+    std::vector<Expr> residuals, unknowns;
+    std::vector<double> start;
+    std::vector<std::string> origins;
+    for (int i : blk) {
+      const Row& r = rows_[static_cast<std::size_t>(kept[static_cast<std::size_t>(i)])];
+      residuals.push_back(r.residual);
+      origins.push_back(r.origin);
+      const auto j = static_cast<std::size_t>(m.unknown_of[static_cast<std::size_t>(i)]);
+      unknowns.push_back(unknowns_[j]);
+      start.push_back(guess_[j]);
+    }
+    Step step = solve_block(a_, residuals, unknowns, start);
+    if (auto* as = std::get_if<Assignment>(&step)) {
+      values_[as->target] = substitute(a_, as->value, values_);
+      return;
+    }
+    auto& b = std::get<EquationBlock>(step);
+    ExprMap renamed = values_;
+    for (Expr& z : b.unknowns) {
+      const std::string name = "$init(" + a_.symbol_info(z).name + ")";
+      const Expr fresh = a_.symbol(name, SymbolRole::Algebraic,
+                                   static_cast<std::int32_t>(m_.initial_unknowns.size()));
+      VariableInfo info;
+      info.name = name;
+      if (const auto it = info_.find(z); it != info_.end()) info = *it->second, info.name = name;
+      m_.initial_unknowns.push_back({info, fresh});
+      renamed[z] = fresh;
+      values_[z] = fresh;
+      z = fresh;
+    }
+    std::vector<Expr*> targets;
+    for (Expr& r : b.residuals) targets.push_back(&r);
+    for (Expr& o : b.offset) targets.push_back(&o);
+    for (BlockEntry& e : b.jacobian) targets.push_back(&e.value);
+    substitute_in_place(a_, targets, renamed);
+    b.origins = std::move(origins);
+    m_.initial_steps.push_back(std::move(step));
+  }
+
+  OdeModel& m_;
+  ExprArena& a_;
+  const InitialInput& in_;
+  frontend::DiagnosticEngine& diags_;
+  std::vector<Expr> unknowns_;
+  std::vector<double> guess_;
+  std::unordered_map<Expr, int, ExprHash> local_;
+  std::vector<Row> rows_;
+  ExprMap values_;  ///< unknown → its value (closed form or a fresh block symbol)
+  std::unordered_map<Expr, const VariableInfo*, ExprHash> info_ = [this] {
+    std::unordered_map<Expr, const VariableInfo*, ExprHash> out;
+    for (const OdeAlgebraic& y : m_.algebraics) out.emplace(y.symbol, &y.info);
+    for (const OdeState& x : m_.states) out.emplace(x.symbol, &x.info);
+    return out;
+  }();
+};
+
+}  // namespace
+
+bool lower_initial_system(OdeModel& model, const InitialInput& input,
+                          frontend::DiagnosticEngine& diags) {
+  if (input.equations.empty()) return true;
+  return InitialSystem(model, input, diags).run();
+}
+
+}  // namespace mo::symbolic::detail
