@@ -43,6 +43,14 @@ private:
   ast::Modification modification(P::ModificationContext *ctx);
   ast::Modification class_modification(P::Class_modificationContext *ctx);
   ast::ElementMod argument(P::ArgumentContext *ctx);
+  /// `replaceable T x(...) constrainedby C(...)` or `replaceable model M = T` in a modifier.
+  void redeclaration(P::Element_replaceableContext *ctx, ast::ElementMod &em);
+  std::unique_ptr<ast::Component> component_clause1(P::Component_clause1Context *ctx);
+  /// The component `d` declares, with its type prefixes, type, dimensions and modification.
+  ast::Component declaration(P::Type_prefixContext *tp, const ast::TypeName &type, P::DeclarationContext *d,
+                             P::Array_subscriptsContext *type_dims);
+  void short_class(P::Short_class_specifierContext *sc, ast::ClassDef &cls);
+  ast::ClassPtr short_class_definition(P::Short_class_definitionContext *ctx);
   std::string string_comment(P::String_commentContext *ctx);
   std::string comment(P::CommentContext *ctx);
 

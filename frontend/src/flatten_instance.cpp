@@ -24,7 +24,8 @@ Modifier Flattener::make_modifier(const ast::Modification &m, Instance *scope, C
   }
   for (const ast::ElementMod &em : m.args) {
     if (em.redeclare) {
-      diags_.report(DiagId::Unsupported, em.range, "redeclarations in modifiers are not supported");
+      Modifier &node = out.sub[em.path.at(0)];
+      redeclaration(em, scope, lexical, node);
       continue;
     }
     // `a.b(c = 1) = 2` is a(b(c = 1) = 2): build the nested path.
@@ -50,6 +51,14 @@ void Flattener::merge_into(Modifier &inner, const Modifier &outer) {
     inner.lexical = outer.lexical;
     inner.index = outer.index;
     inner.range = outer.range;
+  }
+  if (inner.range.file == 0)
+    inner.range = outer.range;
+  if (outer.redecl_component || outer.redecl_class) {
+    inner.range = outer.range;
+    inner.redecl_component = outer.redecl_component;
+    inner.redecl_lexical = outer.redecl_lexical;
+    inner.redecl_class = outer.redecl_class;
   }
   inner.each = inner.each || outer.each;
   inner.final_ = inner.final_ || outer.final_;
@@ -126,6 +135,8 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   if (def.has_algorithm)
     diags_.report(DiagId::Unsupported, def.algorithm_range,
                   "algorithm sections are not supported (write equations instead)");
+  const Modifier own = own_redeclarations(inst, cls);
+  replace_classes(inst, mod);
   for (auto &[ext, base] : bases(cls)) {
     // A class inherited along two paths is instantiated once: its elements
     // are identical duplicates, which Modelica merges (7.3).
@@ -141,6 +152,7 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
       continue;
     }
     Modifier base_mod = make_modifier(ext->mod, &inst, cls);
+    merge_into(base_mod, own);
     merge_into(base_mod, mod);
     instantiate_class(inst, base, base_mod, depth);
   }
@@ -151,10 +163,23 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
     order.push_back(&c);
   std::stable_partition(order.begin(), order.end(), [](const ast::Component *c) { return c->dims.empty(); });
   for (const ast::Component *c : order) {
+    if (c->redeclare) { // passed to the bases, which declare the element
+      if (!inst.member_index.count(c->name))
+        diags_.report(DiagId::UnknownModifier, c->range,
+                      "'" + c->name + "' is redeclared but no base class declares it");
+      continue;
+    }
     if (auto it = inst.member_index.find(c->name); it != inst.member_index.end()) {
       diags_.report(DiagId::DuplicateDeclaration, c->range, "duplicate declaration of '" + c->name + "'");
       if (it->second->decl)
         diags_.note(it->second->decl->range, "previous declaration is here");
+      continue;
+    }
+    if (auto it = mod.sub.find(c->name); it != mod.sub.end() && it->second.redecl_component) {
+      try {
+        instantiate_redeclared(inst, *c, cls, it->second, depth);
+      } catch (Reported &) {
+      }
       continue;
     }
     Modifier cmod = make_modifier(c->mod, &inst, cls);
@@ -180,7 +205,7 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
 
 void Flattener::check_modifier_names(const Instance &inst, const Modifier &mod) {
   for (const auto &[name, sub] : mod.sub) {
-    if (inst.member_index.count(name))
+    if (inst.member_index.count(name) || inst.replaced.count(name))
       continue;
     std::string where = inst.decl ? "component '" + inst.decl->name + "' of type '" + inst.decl->type.str() + "'"
                                   : "class '" + (inst.cls ? inst.cls->path() : std::string("?")) + "'";
@@ -201,7 +226,7 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
     }
   }
   ResolvedType rt;
-  if (!resolve_type(cls, comp.type, rt))
+  if (!resolve_type(cls, comp.type, rt, &parent))
     throw Reported{};
   Modifier full = rt.mod;
   merge_into(full, mod);

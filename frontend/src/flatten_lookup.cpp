@@ -107,6 +107,9 @@ ClassNode *Flattener::find_member_class(ClassNode *cls, const std::string &name,
     return it->second.get(); // an implied package from `within`
   if (depth > 32 || !cls->def)
     return nullptr;
+  if (const auto &sb = cls->def->short_base) // `package P = Q`: the members of Q
+    if (ClassNode *base = lookup_class(cls->parent, sb->parts, sb->global, sb->range, false); base && base != cls)
+      return find_member_class(base, name, depth + 1);
   for (const auto &ext : cls->def->extends) {
     ClassNode *base = lookup_class(extends_scope(cls, ext, &lib_.root), ext.base.parts,
                                    ext.base.global, ext.base.range, false);
@@ -161,9 +164,17 @@ ClassNode *Flattener::lookup_class(ClassNode *scope, const std::vector<std::stri
   return found;
 }
 
-bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out) {
+bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out,
+                             const Instance *in) {
   flat::BaseType bt;
-  ClassNode *cls = lookup_class(scope, type.parts, type.global, type.range, false);
+  ClassNode *cls = nullptr;
+  if (in && !type.global && in->replaced.count(type.parts[0])) {
+    cls = in->replaced.at(type.parts[0]);
+    for (std::size_t i = 1; cls && i < type.parts.size(); ++i)
+      cls = find_member_class(cls, type.parts[i]);
+  } else {
+    cls = lookup_class(scope, type.parts, type.global, type.range, false);
+  }
   if (!cls && type.parts.size() == 1 && builtin_type(type.parts[0], bt)) {
     out.is_builtin = true;
     out.builtin = bt;
