@@ -183,7 +183,8 @@ def run_example(args, cls, ref_dir):
             if p is None:
                 return row
             row[step] = True
-        ref = read_csv(os.path.join(ref_dir, cls.split(".")[-1] + ".csv"))
+        ref_csv = os.path.join(ref_dir, cls.split(".")[-1] + ".csv")
+        ref = read_csv(ref_csv) if os.path.isfile(ref_csv) else {}
         exp = experiment(os.path.join(args.shared, "third_party", "msl-3.2.2"), cls)
         stop = exp["StopTime"] or (ref["time"][-1] if ref.get("time") else 1.0)
         start = exp["StartTime"] or 0.0
@@ -198,6 +199,9 @@ def run_example(args, cls, ref_dir):
         if run(row, "simulate", cmd, env, 3 * args.timeout) is None:
             return row
         row["simulate"] = True
+        if not ref:
+            row["why"] = "compare: the reference .csv is missing"
+            return row
         why = compare(ref_dir, cls, os.path.join(out, "result.csv"))
         row["matches"] = not why
         row["why"] = "compare: " + why if why else ""
@@ -229,8 +233,16 @@ def main():
         if missing:
             sys.exit("pinned classes without a reference result: " + ", ".join(sorted(missing)))
         todo = [(c, d) for c, d in todo if c in pinned]
+    def one(cd):
+        try:
+            row = run_example(args, *cd)
+        except Exception as e:  # a bench bug must not lose the other rows
+            row = {"class": cd[0], "flatten": False, "lower": False, "simulate": False,
+                   "matches": False, "why": "bench: %s" % e}
+        print("%s: %s" % (row["class"], row["why"] or "matches"), file=sys.stderr, flush=True)
+        return row
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        rows = list(pool.map(lambda cd: run_example(args, *cd), todo))
+        rows = list(pool.map(one, todo))
     if args.list_matching:
         for r in rows:
             if r["matches"]:

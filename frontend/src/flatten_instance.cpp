@@ -162,6 +162,8 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   for (const auto &c : def.components)
     order.push_back(&c);
   std::stable_partition(order.begin(), order.end(), [](const ast::Component *c) { return c->dims.empty(); });
+  // `inner` elements before the components whose `outer` ones refer to them.
+  std::stable_partition(order.begin(), order.end(), [](const ast::Component *c) { return c->inner && !c->outer; });
   for (const ast::Component *c : order) {
     if (c->redeclare) { // passed to the bases, which declare the element
       if (!inst.member_index.count(c->name))
@@ -203,6 +205,14 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   class_stack_.pop_back();
 }
 
+Instance *Flattener::find_inner(const Instance &from, const std::string &name) {
+  for (const Instance *p = from.parent; p; p = p->parent)
+    if (auto it = p->member_index.find(name); it != p->member_index.end())
+      if (it->second->decl && it->second->decl->inner)
+        return it->second;
+  return nullptr;
+}
+
 void Flattener::check_modifier_names(const Instance &inst, const Modifier &mod) {
   for (const auto &[name, sub] : mod.sub) {
     if (inst.member_index.count(name) || inst.replaced.count(name))
@@ -216,8 +226,16 @@ void Flattener::check_modifier_names(const Instance &inst, const Modifier &mod) 
 void Flattener::instantiate_component(Instance &parent, const ast::Component &comp, ClassNode *cls,
                                       Modifier mod, unsigned depth) {
   Scope here{&parent, cls, nullptr};
-  if (comp.outer)
-    fail(DiagId::Unsupported, comp.range, "'outer' components are not supported");
+  if (comp.outer) {
+    // The nearest enclosing instance's `inner` element of that name (MLS 5.4):
+    // the outer name becomes an alias of it in this instance.
+    Instance *inner = find_inner(parent, comp.name);
+    if (!inner)
+      fail(DiagId::UnknownComponent, comp.range,
+           "no enclosing instance declares an 'inner' element '" + comp.name + "' for this 'outer' one");
+    parent.member_index[comp.name] = inner;
+    return;
+  }
   if (comp.condition) {
     ast::ExprPtr c = scalar_expr(*comp.condition, here);
     if (eval(*c, comp.condition->range) == 0) {

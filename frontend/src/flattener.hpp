@@ -192,6 +192,8 @@ public:
   void make_elements(Instance &inst, const ast::Component &comp, const ResolvedType &rt,
                      const Modifier &mod, unsigned depth);
   void check_modifier_names(const Instance &inst, const Modifier &mod);
+  /// The `inner` element `name` of the nearest instance enclosing `from`, or null.
+  Instance *find_inner(const Instance &from, const std::string &name);
 
   // -- redeclarations (flatten_redeclare.cpp)
   /// Fills `node` with the redeclaration `em` (a component or a class),

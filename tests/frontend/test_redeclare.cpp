@@ -1,5 +1,5 @@
-// Redeclarations and replaceable elements (MLS 7.3): each model in
-// data/redeclare/ flattens to the exact flat text pinned beside it
+// Redeclarations and replaceable elements (MLS 7.3) and inner/outer
+// elements (MLS 5.4): each model in data/elements/ flattens to the exact flat text pinned beside it
 // (NAME.mo → NAME.flat; MO_UPDATE_GOLDEN=1 rewrites them), and that text
 // flattens again to itself. Bad redeclarations are pinned in data/bad/.
 #include "compile.hpp"
@@ -11,7 +11,7 @@
 using namespace mo::test;
 
 namespace {
-const std::string kRedeclare = std::string(MO_TEST_DATA_DIR) + "/redeclare/";
+const std::string kElements = std::string(MO_TEST_DATA_DIR) + "/elements/";
 
 std::string flat_of(const std::string &name, const std::string &text) {
   Compiled c = compile({{name, text}});
@@ -30,9 +30,9 @@ std::string errors_of(const std::string &text) {
 bool contains(const std::string &s, const std::string &part) { return s.find(part) != std::string::npos; }
 } // namespace
 
-TEST_CASE("every redeclaration model flattens to its pinned flat text, which flattens to itself", "[redeclare]") {
-  auto files = list_files(kRedeclare, ".mo");
-  REQUIRE(files.size() >= 3);
+TEST_CASE("every element-prefix model flattens to its pinned flat text, which flattens to itself", "[redeclare]") {
+  auto files = list_files(kElements, ".mo");
+  REQUIRE(files.size() >= 4);
   const bool update = std::getenv("MO_UPDATE_GOLDEN") != nullptr;
   for (const auto &f : files) {
     INFO("model: " << f);
@@ -103,4 +103,14 @@ TEST_CASE("bad redeclarations are reported at the redeclaration", "[redeclare]")
       end M;)");
     CHECK(contains(d, "error: modifier 'b' does not name an element of component 'h' of type 'H'"));
   }
+}
+
+TEST_CASE("an outer element without an enclosing inner one is reported", "[redeclare][inner]") {
+  const std::string d = errors_of(R"(
+    model M
+      model E Real x = time; end E;
+      model U outer E e; Real y = e.x; end U;
+      U u;
+    end M;)");
+  CHECK(contains(d, "m.mo:4:23: error: no enclosing instance declares an 'inner' element 'e' for this 'outer' one"));
 }
