@@ -270,6 +270,8 @@ public:
   // -- equations and connections (flatten_equations.cpp, flatten_connect.cpp)
   void flatten_equations(Instance &inst);
   void equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
+  void tuple_equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
+  void equal_elements(const ast::Equation &eq, Tensor &l, Tensor &r, std::vector<ast::Equation> &out);
   void connect(const ast::Equation &eq, const Scope &s);
   void finish_connections();
 

@@ -382,3 +382,41 @@ TEST_CASE("connections to a switched-off conditional component are removed", "[m
     end Circuit;)");
   CHECK_FALSE(contains(s, "g.p"));
 }
+
+TEST_CASE("tuple equations take the outputs of a function, size() of an unassigned output", "[msl][functions]") {
+  const char *src = R"(
+    function split
+      input Integer n;
+      input Real x;
+      output Real parts[n];
+      output Real total;
+    algorithm
+      for i in 1:size(parts, 1) loop
+        parts[i] := x / n;
+      end for;
+      total := x;
+    end split;
+    model Use
+      parameter Real p[2](each fixed = false);
+      parameter Real q(fixed = false);
+      Real a[3];
+      Real b;
+    initial equation
+      (p, q) = split(2, 6);
+    equation
+      (a, ) = split(3, time);
+      (, b) = split(1, 2 * time);
+    end Use;)";
+  const std::string s = flat(src);
+  CHECK(contains(s, "`a[3]` = time / 3;"));
+  CHECK(contains(s, "b = 2 * time;"));
+  CHECK(contains(s, "`p[2]` = 6 / 2;"));
+  CHECK(contains(s, "q = 6;"));
+  Compiled bad = compile_text(R"(
+    model Bad
+      Real a, b;
+    equation
+      (a, b) = sin(time);
+    end Bad;)");
+  CHECK(contains(bad.diagnostics, "the right side of a tuple equation must call a user function"));
+}
