@@ -163,10 +163,14 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
       for (auto *note : eq->annotation()) // a class annotation written last lands here
         vendor_annotation(note, cls);
     } else if (auto *alg = dynamic_cast<P::Algorithm_sectionContext *>(child)) {
+      auto section = statements(alg->statement());
+      auto &target = alg->INITIAL() ? cls.initial_equations : cls.equations;
+      if (cls.restriction != Restriction::Function && algorithm_as_equations(section, target))
+        continue;
       if (!cls.has_algorithm)
         cls.algorithm_range = range(alg->ALGORITHM());
       cls.has_algorithm = true;
-      for (auto &st : statements(alg->statement()))
+      for (auto &st : section)
         cls.algorithm.push_back(std::move(st));
     } else if (auto *con = dynamic_cast<P::Constraint_sectionContext *>(child)) {
       for (auto *c : con->constraint())

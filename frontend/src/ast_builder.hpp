@@ -9,6 +9,13 @@ namespace mo::frontend::detail {
 namespace g = mo::frontend::grammar;
 
 /// Builds ast nodes from a parse tree that has no syntax errors.
+/// Appends the equations that algorithm `section` of a model means when its
+/// statements are assignments (and when-statements and assert/terminate/
+/// reinit calls of such), each variable assigned by one statement and not
+/// read by an earlier one (algorithm_equations.cpp); false, and nothing
+/// changed, for any other section.
+bool algorithm_as_equations(std::vector<ast::Statement> &section, std::vector<ast::Equation> &out);
+
 class AstBuilder {
 public:
   AstBuilder(FileId file, std::string_view text, DiagnosticEngine &diags)

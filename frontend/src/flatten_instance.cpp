@@ -134,7 +134,8 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   const ast::ClassDef &def = *cls->def;
   if (def.has_algorithm)
     diags_.report(DiagId::Unsupported, def.algorithm_range,
-                  "algorithm sections are not supported (write equations instead)");
+                  "this algorithm section is not supported: only assignments (and when-statements of "
+                  "them) that assign each variable once, before any statement reads it, are");
   const Modifier own = own_redeclarations(inst, cls);
   replace_classes(inst, mod);
   for (auto &[ext, base] : bases(cls)) {

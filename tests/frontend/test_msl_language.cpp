@@ -420,3 +420,36 @@ TEST_CASE("tuple equations take the outputs of a function, size() of an unassign
     end Bad;)");
   CHECK(contains(bad.diagnostics, "the right side of a tuple equation must call a user function"));
 }
+
+TEST_CASE("algorithm sections of models that assign each variable once are equations", "[msl][algorithm]") {
+  const char *src = R"(
+    model Alg
+      parameter Real period = 0.5;
+      Integer count;
+      Real T_start;
+      Real y;
+      Real z;
+    initial algorithm
+      count := integer(time / period);
+      T_start := count * period;
+    algorithm
+      when integer(time / period) > pre(count) then
+        count := pre(count) + 1;
+        T_start := time;
+      end when;
+      y := time - T_start;
+      z := 2 * y;
+    end Alg;)";
+  const std::string s = flat(src);
+  CHECK(contains(s, "  when integer(time / period) > pre(count) then\n    count = pre(count) + 1;\n"
+                    "    T_start = time;\n  end when;\n  y = time - T_start;\n  z = 2 * y;\n"));
+  CHECK(contains(s, "initial equation\n  count = integer(time / period);\n  T_start = count * period;\n"));
+  SECTION("a variable assigned twice, or read before it is assigned, keeps the section an algorithm") {
+    for (const char *body : {"y := 1; y := y + time;", "z := y; y := time;", "if time > 1 then y := 1; else y := 2; end if; z := y;"}) {
+      Compiled c = compile_text(std::string("model A\n  Real y, z;\nalgorithm\n  ") + body + "\nend A;\n");
+      INFO(body);
+      CHECK_FALSE(c.ok());
+      CHECK(contains(c.diagnostics, "3:1: error: this algorithm section is not supported"));
+    }
+  }
+}
