@@ -2,6 +2,8 @@
 // classes inherited through `extends`.
 #include "flattener.hpp"
 
+#include <algorithm>
+
 namespace mo::frontend {
 
 std::string ClassNode::path() const {
@@ -61,9 +63,16 @@ static bool builtin_type(const std::string &n, flat::BaseType &t) {
 /// Where the base of `ext` in `cls` is looked up: the enclosing scope, or
 /// `cls` itself for a class declared in it (not one it inherits).
 static ClassNode *extends_scope(ClassNode *cls, const ast::Extends &ext, ClassNode *root) {
-  if (!ext.base.global && !ext.base.parts.empty())
-    if (auto it = cls->children.find(ext.base.parts[0]); it != cls->children.end() && it->second->def)
+  if (!ext.base.global && !ext.base.parts.empty()) {
+    const std::string &first = ext.base.parts[0];
+    if (auto it = cls->children.find(first); it != cls->children.end() && it->second->def)
       return cls;
+    for (const auto &imp : cls->def->imports) // `import A.B.C; extends C;`
+      if ((imp.alias.empty() ? !imp.wildcard && imp.names.empty() && !imp.path.empty() && imp.path.back() == first
+                             : imp.alias == first) ||
+          std::find(imp.names.begin(), imp.names.end(), first) != imp.names.end())
+        return cls;
+  }
   return cls->parent ? cls->parent : root;
 }
 
@@ -107,6 +116,16 @@ ClassNode *Flattener::find_member_class(ClassNode *cls, const std::string &name,
     return it->second.get(); // an implied package from `within`
   if (depth > 32 || !cls->def)
     return nullptr;
+  // Looking up a base's name can come back to this very search (a base
+  // named like the member sought, found through enclosing scopes): that
+  // path finds nothing.
+  if (!member_searches_.insert({cls, name}).second)
+    return nullptr;
+  struct Done {
+    std::set<std::pair<ClassNode *, std::string>> &set;
+    std::pair<ClassNode *, std::string> key;
+    ~Done() { set.erase(key); }
+  } done{member_searches_, {cls, name}};
   if (const auto &sb = cls->def->short_base) // `package P = Q`: the members of Q
     if (ClassNode *base = lookup_class(cls->parent, sb->parts, sb->global, sb->range, false); base && base != cls)
       return find_member_class(base, name, depth + 1);

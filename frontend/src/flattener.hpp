@@ -171,6 +171,7 @@ public:
   ClassNode *lookup_class(ClassNode *scope, const std::vector<std::string> &parts, bool global,
                           SourceRange where, bool report = true);
   ClassNode *find_member_class(ClassNode *cls, const std::string &name, unsigned depth = 0);
+  std::set<std::pair<ClassNode *, std::string>> member_searches_; ///< in progress in find_member_class
   /// The type `type` names in class `scope`; a first name that `in` (the
   /// instance being built) has replaced by a redeclaration resolves there.
   bool resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out,

@@ -453,3 +453,26 @@ TEST_CASE("algorithm sections of models that assign each variable once are equat
     }
   }
 }
+
+TEST_CASE("a base class named by an import of the class itself", "[msl][lookup]") {
+  const char *src = R"(
+    package P
+      package Interfaces
+        partial model Rigid
+          Real s(start = 1, fixed = true);
+        end Rigid;
+      end Interfaces;
+      package Components
+        model Mass
+          import P.Interfaces.Rigid;
+          extends Rigid(s(start = 2));
+        equation
+          der(s) = -s;
+        end Mass;
+      end Components;
+    end P;
+    model Use
+      P.Components.Mass m;
+    end Use;)";
+  CHECK(contains(flat(src), "Real `m.s`(start = 2, fixed = true);"));
+}
