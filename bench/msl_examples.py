@@ -7,17 +7,23 @@ Mechanics.Translational, Mechanics.Rotational, Thermal.HeatTransfer), with
 MODELICAPATH=<shared>/third_party/msl-3.2.2:
   flatten   mocompile --emit flat exits 0
   lower     mocompile --emit ode exits 0
-  simulate  morun --stop-time <last reference time> exits 0
-  matches   every compared signal is within 1e-3 of its range (plus 1e-6)
-            of the reference at the reference rows away from events
+  simulate  morun exits 0, run to the example's experiment annotation
+            (StopTime, Tolerance, Interval; else the last reference time)
+  matches   every compared signal of the reference that our result has is
+            within 1e-3 of its range (plus 1e-6) of the reference at the
+            reference rows away from events, and at least one is compared
 Prints one row per example (with the first line of the error when a step
-fails) and the totals. Usage:
+fails, or the timeout), the totals and the reasons of failure by count.
+Usage:
   bench/msl_examples.py [--build DIR] [--shared DIR] [--only SUBSTRING] [--jobs N]
+                        [--timeout SECONDS] [--list-matching]
 """
 import argparse
 import bisect
+import collections
 import csv
 import os
+import re
 import subprocess
 import sys
 import tempfile
@@ -26,10 +32,13 @@ from concurrent.futures import ThreadPoolExecutor
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
 
-def shared_dir(arg):
+def shared_dir(arg, skip_code=None):
     for d in (arg, os.path.join(ROOT, "..", "shared"), os.environ.get("MO_SHARED_DIR")):
         if d and os.path.isdir(os.path.join(d, "third_party")):
             return d
+    if skip_code is not None:
+        print("SKIPPED: no shared folder beside the checkout (set MO_SHARED_DIR)")
+        sys.exit(skip_code)
     sys.exit("no shared folder: pass --shared or set MO_SHARED_DIR")
 
 
@@ -82,11 +91,11 @@ def compare(ref_dir, name, result_csv):
         return "no time column in result.csv"
     events = {t for a, t in zip(t_ref, t_ref[1:]) if a == t}
     span = (t_ref[-1] - t_ref[0]) or 1.0
+    compared = 0
     for s in signals:
-        if s not in ref:
+        if s not in ref or s not in ours:
             continue
-        if s not in ours:
-            return "signal %s not in result.csv" % s
+        compared += 1
         y_ref, y = ref[s], ours[s]
         scale = (max(y_ref) - min(y_ref)) if y_ref else 0.0
         tol = 1e-3 * scale + 1e-6 + 1e-6 * max(abs(v) for v in y_ref)
@@ -96,7 +105,39 @@ def compare(ref_dir, name, result_csv):
             got = interpolate(t_ours, y, t)
             if not abs(got - v) <= tol:
                 return "%s at t=%g: %g, reference %g" % (s, t, got, v)
-    return ""
+    return "" if compared else "none of the compared signals is in result.csv"
+
+
+def class_text(msl, cls):
+    """The text of class `cls` in the MSL sources, or ''."""
+    parts = cls.split(".")
+    d, i = msl, 0
+    while i < len(parts) - 1 and os.path.isdir(os.path.join(d, parts[i])):
+        d = os.path.join(d, parts[i])
+        i += 1
+    f = os.path.join(d, parts[i] + ".mo")
+    if not os.path.isfile(f):
+        f = os.path.join(d, "package.mo")
+    if not os.path.isfile(f):
+        return ""
+    with open(f, encoding="utf-8", errors="replace") as fh:
+        text = fh.read()
+    name = re.escape(parts[-1])
+    m = re.search(r"\b(model|block|class)\s+%s\b" % name, text)
+    if not m:
+        return ""
+    end = re.search(r"\bend\s+%s\s*;" % name, text[m.start():])
+    return text[m.start():m.start() + end.end()] if end else text[m.start():]
+
+
+def experiment(msl, cls):
+    """StopTime, Tolerance and Interval of the class's experiment annotation (None when absent)."""
+    m = re.search(r"experiment\s*\(([^)]*)\)", class_text(msl, cls))
+    out = {}
+    for key in ("StartTime", "StopTime", "Tolerance", "Interval"):
+        v = re.search(r"\b%s\s*=\s*([-+0-9.eE]+)" % key, m.group(1)) if m else None
+        out[key] = float(v.group(1)) if v else None
+    return out
 
 
 def first_error(text):
@@ -105,6 +146,28 @@ def first_error(text):
             return line.strip()[:200]
     lines = [l for l in text.splitlines() if l.strip()]
     return (lines[-1] if lines else "no output")[:200]
+
+
+def run(row, step, cmd, env, timeout):
+    """The finished process, or None with row["why"] set."""
+    try:
+        p = subprocess.run(cmd, env=env, capture_output=True, text=True, timeout=timeout)
+    except subprocess.TimeoutExpired:
+        row["why"] = "%s: timeout after %g s" % (step, timeout)
+        return None
+    if p.returncode != 0:
+        row["why"] = "%s: %s" % (step, first_error(p.stderr))
+        return None
+    return p
+
+
+def reason(why):
+    """A failure message without the example-specific parts (names, numbers, places)."""
+    r = re.sub(r"\S+\.mo:\d+:\d+: ", "", why)
+    r = re.sub(r"'[^']*'", "'…'", r)
+    r = re.sub(r"\b[\w.\[\]]+ at t=.*", "signal off the reference", r)
+    r = re.sub(r"\d+(\.\d+)?(e[-+]?\d+)?", "N", r)
+    return r[:110]
 
 
 def run_example(args, cls, ref_dir):
@@ -116,22 +179,29 @@ def run_example(args, cls, ref_dir):
         row = {"class": cls, "flatten": False, "lower": False, "simulate": False, "matches": False, "why": ""}
         mocompile = os.path.join(args.build, "tools", "mocompile")
         for step, emit in (("flatten", "flat"), ("lower", "ode")):
-            p = subprocess.run([mocompile, main, "--emit", emit], env=env, capture_output=True,
-                               text=True, timeout=600)
-            if p.returncode != 0:
-                row["why"] = "%s: %s" % (step, first_error(p.stderr))
+            p = run(row, step, [mocompile, main, "--emit", emit], env, args.timeout)
+            if p is None:
                 return row
             row[step] = True
-        ref = read_csv(os.path.join(ref_dir, cls.split(".")[-1] + ".csv"))
-        stop = ref["time"][-1] if ref.get("time") else 1.0
+        ref_csv = os.path.join(ref_dir, cls.split(".")[-1] + ".csv")
+        ref = read_csv(ref_csv) if os.path.isfile(ref_csv) else {}
+        exp = experiment(os.path.join(args.shared, "third_party", "msl-3.2.2"), cls)
+        stop = exp["StopTime"] or (ref["time"][-1] if ref.get("time") else 1.0)
+        start = exp["StartTime"] or 0.0
+        intervals = 2000
+        if exp["Interval"]:
+            intervals = max(1, min(20000, int(round((stop - start) / exp["Interval"]))))
         out = os.path.join(tmp, "run")
-        p = subprocess.run([os.path.join(args.build, "tools", "morun"), main, "--stop-time", repr(stop),
-                            "--intervals", "2000", "--aliases", "-o", out],
-                           env=env, capture_output=True, text=True, timeout=900)
-        if p.returncode != 0:
-            row["why"] = "simulate: " + first_error(p.stderr)
+        cmd = [os.path.join(args.build, "tools", "morun"), main, "--stop-time", repr(stop),
+               "--intervals", str(intervals), "--aliases", "-o", out]
+        if exp["Tolerance"]:
+            cmd += ["--rtol", repr(min(exp["Tolerance"], 1e-6))]
+        if run(row, "simulate", cmd, env, 3 * args.timeout) is None:
             return row
         row["simulate"] = True
+        if not ref:
+            row["why"] = "compare: the reference .csv is missing"
+            return row
         why = compare(ref_dir, cls, os.path.join(out, "result.csv"))
         row["matches"] = not why
         row["why"] = "compare: " + why if why else ""
@@ -144,12 +214,40 @@ def main():
     ap.add_argument("--shared", default=None)
     ap.add_argument("--only", default="")
     ap.add_argument("--jobs", type=int, default=1)
+    ap.add_argument("--timeout", type=float, default=120.0,
+                    help="seconds per mocompile step; simulation gets 3 times as long")
+    ap.add_argument("--pinned", default=None,
+                    help="file of classes (one a line, # comments) that must all match: exit 1 "
+                         "when one does not, 77 when the shared folder is absent")
+    ap.add_argument("--list-matching", action="store_true",
+                    help="print only the classes that match their reference")
     args = ap.parse_args()
-    args.shared = shared_dir(args.shared)
+    args.shared = shared_dir(args.shared, 77 if args.pinned else None)
     ref_root = os.path.join(args.shared, "third_party", "msl-reference-results-3.2.3", "Modelica")
     todo = [(c, d) for c, d in examples(ref_root) if args.only in c]
+    pinned = None
+    if args.pinned:
+        with open(args.pinned) as f:
+            pinned = [l.split("#")[0].strip() for l in f if l.split("#")[0].strip()]
+        missing = set(pinned) - {c for c, _ in todo}
+        if missing:
+            sys.exit("pinned classes without a reference result: " + ", ".join(sorted(missing)))
+        todo = [(c, d) for c, d in todo if c in pinned]
+    def one(cd):
+        try:
+            row = run_example(args, *cd)
+        except Exception as e:  # a bench bug must not lose the other rows
+            row = {"class": cd[0], "flatten": False, "lower": False, "simulate": False,
+                   "matches": False, "why": "bench: %s" % e}
+        print("%s: %s" % (row["class"], row["why"] or "matches"), file=sys.stderr, flush=True)
+        return row
     with ThreadPoolExecutor(max_workers=args.jobs) as pool:
-        rows = list(pool.map(lambda cd: run_example(args, *cd), todo))
+        rows = list(pool.map(one, todo))
+    if args.list_matching:
+        for r in rows:
+            if r["matches"]:
+                print(r["class"])
+        return
     print("| example | flatten | lower | simulate | matches | first failure |")
     print("|---|:-:|:-:|:-:|:-:|---|")
     mark = lambda b: "yes" if b else "-"
@@ -161,6 +259,12 @@ def main():
     print("\nof %d examples: %d flatten, %d lower, %d simulate, %d match the reference" % (
         n, sum(r["flatten"] for r in rows), sum(r["lower"] for r in rows),
         sum(r["simulate"] for r in rows), sum(r["matches"] for r in rows)))
+    counts = collections.Counter(reason(r["why"]) for r in rows if r["why"])
+    print("\nreasons of the first failure, by count:")
+    for why, k in counts.most_common():
+        print("%4d  %s" % (k, why))
+    if pinned is not None and not all(r["matches"] for r in rows):
+        sys.exit("a pinned example no longer matches its reference")
 
 
 if __name__ == "__main__":

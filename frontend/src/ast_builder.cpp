@@ -100,28 +100,41 @@ ClassPtr AstBuilder::class_definition(P::Class_definitionContext *ctx) {
       diags_.note(cls->range, "class '" + cls->name + "' starts here");
     }
   } else if (auto *sc = spec->short_class_specifier()) {
-    cls->name = ident(sc->IDENT());
-    cls->range = range(sc->IDENT());
-    if (sc->ENUMERATION()) {
-      if (sc->enum_list())
-        for (auto *lit : sc->enum_list()->enumeration_literal())
-          cls->enumeration.push_back(ident(lit->IDENT()));
-    } else {
-      cls->short_base = type_specifier(sc->type_specifier());
-      if (sc->array_subscripts())
-        cls->short_dims = array_subscripts(sc->array_subscripts());
-      if (sc->class_modification())
-        cls->class_mod = class_modification(sc->class_modification());
-      if (sc->base_prefix()->INPUT()) cls->short_causality = Causality::Input;
-      if (sc->base_prefix()->OUTPUT()) cls->short_causality = Causality::Output;
-    }
-    cls->description = comment(sc->comment());
+    short_class(sc, *cls);
   } else {
     auto *dc = spec->der_class_specifier();
     cls->name = ident(dc->IDENT().front());
     cls->range = range(dc->IDENT().front());
     diags_.report(DiagId::Unsupported, range(dc), "derivative function declarations are not supported");
   }
+  return cls;
+}
+
+void AstBuilder::short_class(P::Short_class_specifierContext *sc, ClassDef &cls) {
+  cls.name = ident(sc->IDENT());
+  cls.range = range(sc->IDENT());
+  if (sc->ENUMERATION()) {
+    if (sc->enum_list())
+      for (auto *lit : sc->enum_list()->enumeration_literal())
+        cls.enumeration.push_back(ident(lit->IDENT()));
+  } else {
+    cls.short_base = type_specifier(sc->type_specifier());
+    if (sc->array_subscripts())
+      cls.short_dims = array_subscripts(sc->array_subscripts());
+    if (sc->class_modification())
+      cls.class_mod = class_modification(sc->class_modification());
+    if (sc->base_prefix()->INPUT()) cls.short_causality = Causality::Input;
+    if (sc->base_prefix()->OUTPUT()) cls.short_causality = Causality::Output;
+  }
+  cls.description = comment(sc->comment());
+}
+
+ClassPtr AstBuilder::short_class_definition(P::Short_class_definitionContext *ctx) {
+  auto cls = std::make_unique<ClassDef>();
+  cls->partial = ctx->class_prefixes()->PARTIAL() != nullptr;
+  cls->restriction = restriction_of(ctx->class_prefixes());
+  cls->full_range = range(ctx);
+  short_class(ctx->short_class_specifier(), *cls);
   return cls;
 }
 
@@ -150,10 +163,14 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
       for (auto *note : eq->annotation()) // a class annotation written last lands here
         vendor_annotation(note, cls);
     } else if (auto *alg = dynamic_cast<P::Algorithm_sectionContext *>(child)) {
+      auto section = statements(alg->statement());
+      auto &target = alg->INITIAL() ? cls.initial_equations : cls.equations;
+      if (cls.restriction != Restriction::Function && algorithm_as_equations(section, target))
+        continue;
       if (!cls.has_algorithm)
         cls.algorithm_range = range(alg->ALGORITHM());
       cls.has_algorithm = true;
-      for (auto &st : statements(alg->statement()))
+      for (auto &st : section)
         cls.algorithm.push_back(std::move(st));
     } else if (auto *con = dynamic_cast<P::Constraint_sectionContext *>(child)) {
       for (auto *c : con->constraint())
@@ -201,6 +218,8 @@ void AstBuilder::element(P::ElementContext *ctx, ClassDef &cls, bool is_protecte
     auto nested = class_definition(cd);
     nested->final_ = ctx->FINAL() != nullptr;
     nested->is_protected = is_protected;
+    nested->replaceable = ctx->REPLACEABLE() != nullptr;
+    nested->redeclare = ctx->REDECLARE() != nullptr;
     cls.classes.push_back(std::move(nested));
     return;
   }
@@ -215,37 +234,47 @@ void AstBuilder::component_clause(P::Component_clauseContext *ctx, ClassDef &cls
   auto *tp = ctx->type_prefix();
   TypeName type = type_specifier(ctx->type_specifier());
   for (auto *decl : ctx->component_list()->component_declaration()) {
-    Component c;
-    auto *d = decl->declaration();
-    auto *name_token = d->IDENT() ? d->IDENT() : d->CONSTRAINT(); // `constraint` outside optimization
-    c.name = ident(name_token);
-    c.range = range(name_token);
-    c.type = type;
-    if (tp->PARAMETER()) c.variability = Variability::Parameter;
-    if (tp->CONSTANT()) c.variability = Variability::Constant;
-    if (tp->DISCRETE()) c.variability = Variability::Discrete;
-    if (tp->INPUT()) c.causality = Causality::Input;
-    if (tp->OUTPUT()) c.causality = Causality::Output;
-    if (tp->FLOW()) c.connection = Connection::Flow;
-    if (tp->STREAM()) c.connection = Connection::Stream;
+    Component c = declaration(tp, type, decl->declaration(), ctx->array_subscripts());
     c.final_ = prefixes->FINAL() != nullptr;
     c.inner = prefixes->INNER() != nullptr;
     c.outer = prefixes->OUTER() != nullptr;
     c.replaceable = prefixes->REPLACEABLE() != nullptr;
     c.redeclare = prefixes->REDECLARE() != nullptr;
     c.is_protected = is_protected;
-    if (ctx->array_subscripts())
-      c.dims = array_subscripts(ctx->array_subscripts());
-    if (d->array_subscripts())
-      for (auto &s : array_subscripts(d->array_subscripts()))
-        c.dims.push_back(std::move(s));
-    if (d->modification())
-      c.mod = modification(d->modification());
+    if (auto *cc = prefixes->constraining_clause()) {
+      c.has_constraint = true;
+      if (cc->class_modification())
+        c.constraint_mod = class_modification(cc->class_modification());
+    }
     if (decl->condition_attribute())
       c.condition = expression(decl->condition_attribute()->expression());
     c.description = comment(decl->comment());
     cls.components.push_back(std::move(c));
   }
+}
+
+Component AstBuilder::declaration(P::Type_prefixContext *tp, const TypeName &type, P::DeclarationContext *d,
+                                  P::Array_subscriptsContext *type_dims) {
+  Component c;
+  auto *name_token = d->IDENT() ? d->IDENT() : d->CONSTRAINT(); // `constraint` outside optimization
+  c.name = ident(name_token);
+  c.range = range(name_token);
+  c.type = type;
+  if (tp->PARAMETER()) c.variability = Variability::Parameter;
+  if (tp->CONSTANT()) c.variability = Variability::Constant;
+  if (tp->DISCRETE()) c.variability = Variability::Discrete;
+  if (tp->INPUT()) c.causality = Causality::Input;
+  if (tp->OUTPUT()) c.causality = Causality::Output;
+  if (tp->FLOW()) c.connection = Connection::Flow;
+  if (tp->STREAM()) c.connection = Connection::Stream;
+  if (type_dims)
+    c.dims = array_subscripts(type_dims);
+  if (d->array_subscripts())
+    for (auto &s : array_subscripts(d->array_subscripts()))
+      c.dims.push_back(std::move(s));
+  if (d->modification())
+    c.mod = modification(d->modification());
+  return c;
 }
 
 Import AstBuilder::import_clause(P::Import_clauseContext *ctx) {
@@ -310,13 +339,48 @@ ElementMod AstBuilder::argument(P::ArgumentContext *ctx) {
       if (m->modification())
         em.mod = modification(m->modification());
     } else {
-      em.redeclare = true; // `replaceable` inside a modifier acts as a redeclaration
+      redeclaration(mr->element_replaceable(), em); // `replaceable` in a modifier redeclares
     }
-  } else {
-    em.redeclare = true;
-    em.each = ctx->element_redeclaration()->EACH() != nullptr;
+    return em;
   }
+  auto *rd = ctx->element_redeclaration();
+  em.each = rd->EACH() != nullptr;
+  em.final_ = rd->FINAL() != nullptr;
+  if (auto *sc = rd->short_class_definition())
+    em.class_def = short_class_definition(sc);
+  else if (auto *c1 = rd->component_clause1())
+    em.component = component_clause1(c1);
+  else
+    redeclaration(rd->element_replaceable(), em);
+  em.redeclare = true;
+  em.path = {em.component ? em.component->name : em.class_def->name};
   return em;
+}
+
+void AstBuilder::redeclaration(P::Element_replaceableContext *ctx, ElementMod &em) {
+  em.redeclare = true;
+  if (auto *sc = ctx->short_class_definition()) {
+    em.class_def = short_class_definition(sc);
+    em.class_def->replaceable = true;
+  } else {
+    em.component = component_clause1(ctx->component_clause1());
+    em.component->replaceable = true;
+    if (auto *cc = ctx->constraining_clause()) {
+      em.component->has_constraint = true;
+      if (cc->class_modification())
+        em.component->constraint_mod = class_modification(cc->class_modification());
+    }
+  }
+  em.path = {em.component ? em.component->name : em.class_def->name};
+}
+
+std::unique_ptr<Component> AstBuilder::component_clause1(P::Component_clause1Context *ctx) {
+  auto *d1 = ctx->component_declaration1();
+  auto c = std::make_unique<Component>(
+      declaration(ctx->type_prefix(), type_specifier(ctx->type_specifier()), d1->declaration(), nullptr));
+  c->redeclare = true;
+  c->description = comment(d1->comment());
+  return c;
 }
 
 std::string AstBuilder::string_comment(P::String_commentContext *ctx) {

@@ -9,6 +9,13 @@ namespace mo::frontend::detail {
 namespace g = mo::frontend::grammar;
 
 /// Builds ast nodes from a parse tree that has no syntax errors.
+/// Appends the equations that algorithm `section` of a model means when its
+/// statements are assignments (and when-statements and assert/terminate/
+/// reinit calls of such), each variable assigned by one statement and not
+/// read by an earlier one (algorithm_equations.cpp); false, and nothing
+/// changed, for any other section.
+bool algorithm_as_equations(std::vector<ast::Statement> &section, std::vector<ast::Equation> &out);
+
 class AstBuilder {
 public:
   AstBuilder(FileId file, std::string_view text, DiagnosticEngine &diags)
@@ -43,6 +50,14 @@ private:
   ast::Modification modification(P::ModificationContext *ctx);
   ast::Modification class_modification(P::Class_modificationContext *ctx);
   ast::ElementMod argument(P::ArgumentContext *ctx);
+  /// `replaceable T x(...) constrainedby C(...)` or `replaceable model M = T` in a modifier.
+  void redeclaration(P::Element_replaceableContext *ctx, ast::ElementMod &em);
+  std::unique_ptr<ast::Component> component_clause1(P::Component_clause1Context *ctx);
+  /// The component `d` declares, with its type prefixes, type, dimensions and modification.
+  ast::Component declaration(P::Type_prefixContext *tp, const ast::TypeName &type, P::DeclarationContext *d,
+                             P::Array_subscriptsContext *type_dims);
+  void short_class(P::Short_class_specifierContext *sc, ast::ClassDef &cls);
+  ast::ClassPtr short_class_definition(P::Short_class_definitionContext *ctx);
   std::string string_comment(P::String_commentContext *ctx);
   std::string comment(P::CommentContext *ctx);
 

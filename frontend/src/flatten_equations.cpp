@@ -219,34 +219,61 @@ void Flattener::flatten_optimization() {
   model_->optimization = std::move(opt);
 }
 
+/// `(a, , b) = f(x)`: one equation per named output of the user function f.
+void Flattener::tuple_equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out) {
+  ClassNode *fn = eq.rhs->kind == ast::ExprKind::Call ? lookup_function(*eq.rhs, s) : nullptr;
+  if (!fn)
+    fail(DiagId::Unsupported, eq.rhs->range, "the right side of a tuple equation must call a user function");
+  const auto &targets = eq.lhs->args;
+  std::vector<Tensor> values = call_function(fn, *eq.rhs, s, targets.size());
+  if (values.size() < targets.size())
+    fail(DiagId::WrongArgumentCount, eq.lhs->range,
+         fmt::format("{} outputs are assigned but the function has {}", targets.size(), values.size()));
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    if (!targets[k])
+      continue; // an omitted output
+    Tensor l = expr(*targets[k], s);
+    equal_elements(eq, l, values[k], out);
+  }
+}
+
+/// The scalar equations l[i] = r[i] (or l[i] rel r for a scalar constraint side).
+void Flattener::equal_elements(const ast::Equation &eq, Tensor &l, Tensor &r, std::vector<ast::Equation> &out) {
+  if (l.dims != r.dims && !(eq.kind == EquationKind::Constraint && r.is_scalar()))
+    fail(DiagId::TypeMismatch, eq.range,
+         fmt::format("the two sides of this equation have different sizes ({} and {})",
+                     sizes_text(l.dims), sizes_text(r.dims)));
+  for (std::size_t i = 0; i < l.elems.size(); ++i) {
+    // The right side's element i (a scalar right side is reused): element
+    // 0 of an array has already been moved out when i > 0.
+    const Expr &r_i = *r.elems[r.is_scalar() ? 0 : i];
+    ValueKind lk = value_kind(*l.elems[i], *model_), rk = value_kind(r_i, *model_);
+    if (lk == ValueKind::String || rk == ValueKind::String)
+      fail(DiagId::TypeMismatch, eq.range, "strings cannot appear in equations");
+    if (eq.kind == EquationKind::Simple && lk != rk)
+      fail(DiagId::TypeMismatch, eq.range,
+           fmt::format("this equation sets {} equal to {}", value_kind_text(lk), value_kind_text(rk)));
+    ast::Equation f;
+    f.kind = eq.kind;
+    f.rel = eq.rel;
+    f.range = eq.range;
+    f.lhs = std::move(l.elems[i]);
+    f.rhs = r.is_scalar() ? r_i.clone() : std::move(r.elems[i]);
+    out.push_back(std::move(f));
+  }
+}
+
 void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out) {
   switch (eq.kind) {
   case EquationKind::Simple:
   case EquationKind::Constraint: {
+    if (eq.kind == EquationKind::Simple && eq.lhs->kind == ast::ExprKind::Tuple) {
+      tuple_equation(eq, s, out);
+      return;
+    }
     Tensor l = expr(*eq.lhs, s);
     Tensor r = expr(*eq.rhs, s);
-    if (l.dims != r.dims && !(eq.kind == EquationKind::Constraint && r.is_scalar()))
-      fail(DiagId::TypeMismatch, eq.range,
-           fmt::format("the two sides of this equation have different sizes ({} and {})",
-                       sizes_text(l.dims), sizes_text(r.dims)));
-    for (std::size_t i = 0; i < l.elems.size(); ++i) {
-      // The right side's element i (a scalar right side is reused): element
-      // 0 of an array has already been moved out when i > 0.
-      const Expr &r_i = *r.elems[r.is_scalar() ? 0 : i];
-      ValueKind lk = value_kind(*l.elems[i], *model_), rk = value_kind(r_i, *model_);
-      if (lk == ValueKind::String || rk == ValueKind::String)
-        fail(DiagId::TypeMismatch, eq.range, "strings cannot appear in equations");
-      if (eq.kind == EquationKind::Simple && lk != rk)
-        fail(DiagId::TypeMismatch, eq.range,
-             fmt::format("this equation sets {} equal to {}", value_kind_text(lk), value_kind_text(rk)));
-      ast::Equation f;
-      f.kind = eq.kind;
-      f.rel = eq.rel;
-      f.range = eq.range;
-      f.lhs = std::move(l.elems[i]);
-      f.rhs = r.is_scalar() ? r_i.clone() : std::move(r.elems[i]);
-      out.push_back(std::move(f));
-    }
+    equal_elements(eq, l, r, out);
     return;
   }
   case EquationKind::Connect:

@@ -550,7 +550,15 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
     }
     if (name == "size") {
       want_args(1, 2);
-      Tensor a = arg(0);
+      // A function's local array has its size before it is assigned.
+      const Expr &x = *e.args[0];
+      const bool local = s.locals && x.kind == ExprKind::Ref && !x.ref.global && x.ref.parts.size() == 1 &&
+                         x.ref.parts[0].subscripts.empty() && s.locals->count(x.ref.parts[0].name);
+      Tensor a;
+      if (local)
+        a.dims = s.locals->at(x.ref.parts[0].name).dims;
+      else
+        a = arg(0);
       if (e.args.size() == 2) {
         long long k = eval_int(*e.args[1], s);
         if (k < 1 || k > static_cast<long long>(a.dims.size()))

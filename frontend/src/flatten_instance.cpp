@@ -24,7 +24,8 @@ Modifier Flattener::make_modifier(const ast::Modification &m, Instance *scope, C
   }
   for (const ast::ElementMod &em : m.args) {
     if (em.redeclare) {
-      diags_.report(DiagId::Unsupported, em.range, "redeclarations in modifiers are not supported");
+      Modifier &node = out.sub[em.path.at(0)];
+      redeclaration(em, scope, lexical, node);
       continue;
     }
     // `a.b(c = 1) = 2` is a(b(c = 1) = 2): build the nested path.
@@ -50,6 +51,14 @@ void Flattener::merge_into(Modifier &inner, const Modifier &outer) {
     inner.lexical = outer.lexical;
     inner.index = outer.index;
     inner.range = outer.range;
+  }
+  if (inner.range.file == 0)
+    inner.range = outer.range;
+  if (outer.redecl_component || outer.redecl_class) {
+    inner.range = outer.range;
+    inner.redecl_component = outer.redecl_component;
+    inner.redecl_lexical = outer.redecl_lexical;
+    inner.redecl_class = outer.redecl_class;
   }
   inner.each = inner.each || outer.each;
   inner.final_ = inner.final_ || outer.final_;
@@ -125,7 +134,10 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   const ast::ClassDef &def = *cls->def;
   if (def.has_algorithm)
     diags_.report(DiagId::Unsupported, def.algorithm_range,
-                  "algorithm sections are not supported (write equations instead)");
+                  "this algorithm section is not supported: only assignments (and when-statements of "
+                  "them) that assign each variable once, before any statement reads it, are");
+  const Modifier own = own_redeclarations(inst, cls);
+  replace_classes(inst, mod);
   for (auto &[ext, base] : bases(cls)) {
     // A class inherited along two paths is instantiated once: its elements
     // are identical duplicates, which Modelica merges (7.3).
@@ -141,6 +153,7 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
       continue;
     }
     Modifier base_mod = make_modifier(ext->mod, &inst, cls);
+    merge_into(base_mod, own);
     merge_into(base_mod, mod);
     instantiate_class(inst, base, base_mod, depth);
   }
@@ -150,11 +163,26 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   for (const auto &c : def.components)
     order.push_back(&c);
   std::stable_partition(order.begin(), order.end(), [](const ast::Component *c) { return c->dims.empty(); });
+  // `inner` elements before the components whose `outer` ones refer to them.
+  std::stable_partition(order.begin(), order.end(), [](const ast::Component *c) { return c->inner && !c->outer; });
   for (const ast::Component *c : order) {
+    if (c->redeclare) { // passed to the bases, which declare the element
+      if (!inst.member_index.count(c->name))
+        diags_.report(DiagId::UnknownModifier, c->range,
+                      "'" + c->name + "' is redeclared but no base class declares it");
+      continue;
+    }
     if (auto it = inst.member_index.find(c->name); it != inst.member_index.end()) {
       diags_.report(DiagId::DuplicateDeclaration, c->range, "duplicate declaration of '" + c->name + "'");
       if (it->second->decl)
         diags_.note(it->second->decl->range, "previous declaration is here");
+      continue;
+    }
+    if (auto it = mod.sub.find(c->name); it != mod.sub.end() && it->second.redecl_component) {
+      try {
+        instantiate_redeclared(inst, *c, cls, it->second, depth);
+      } catch (Reported &) {
+      }
       continue;
     }
     Modifier cmod = make_modifier(c->mod, &inst, cls);
@@ -178,9 +206,17 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   class_stack_.pop_back();
 }
 
+Instance *Flattener::find_inner(const Instance &from, const std::string &name) {
+  for (const Instance *p = from.parent; p; p = p->parent)
+    if (auto it = p->member_index.find(name); it != p->member_index.end())
+      if (it->second->decl && it->second->decl->inner)
+        return it->second;
+  return nullptr;
+}
+
 void Flattener::check_modifier_names(const Instance &inst, const Modifier &mod) {
   for (const auto &[name, sub] : mod.sub) {
-    if (inst.member_index.count(name))
+    if (inst.member_index.count(name) || inst.replaced.count(name))
       continue;
     std::string where = inst.decl ? "component '" + inst.decl->name + "' of type '" + inst.decl->type.str() + "'"
                                   : "class '" + (inst.cls ? inst.cls->path() : std::string("?")) + "'";
@@ -191,8 +227,16 @@ void Flattener::check_modifier_names(const Instance &inst, const Modifier &mod) 
 void Flattener::instantiate_component(Instance &parent, const ast::Component &comp, ClassNode *cls,
                                       Modifier mod, unsigned depth) {
   Scope here{&parent, cls, nullptr};
-  if (comp.outer)
-    fail(DiagId::Unsupported, comp.range, "'outer' components are not supported");
+  if (comp.outer) {
+    // The nearest enclosing instance's `inner` element of that name (MLS 5.4):
+    // the outer name becomes an alias of it in this instance.
+    Instance *inner = find_inner(parent, comp.name);
+    if (!inner)
+      fail(DiagId::UnknownComponent, comp.range,
+           "no enclosing instance declares an 'inner' element '" + comp.name + "' for this 'outer' one");
+    parent.member_index[comp.name] = inner;
+    return;
+  }
   if (comp.condition) {
     ast::ExprPtr c = scalar_expr(*comp.condition, here);
     if (eval(*c, comp.condition->range) == 0) {
@@ -201,7 +245,7 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
     }
   }
   ResolvedType rt;
-  if (!resolve_type(cls, comp.type, rt))
+  if (!resolve_type(cls, comp.type, rt, &parent))
     throw Reported{};
   Modifier full = rt.mod;
   merge_into(full, mod);

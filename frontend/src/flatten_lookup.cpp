@@ -2,6 +2,8 @@
 // classes inherited through `extends`.
 #include "flattener.hpp"
 
+#include <algorithm>
+
 namespace mo::frontend {
 
 std::string ClassNode::path() const {
@@ -61,9 +63,16 @@ static bool builtin_type(const std::string &n, flat::BaseType &t) {
 /// Where the base of `ext` in `cls` is looked up: the enclosing scope, or
 /// `cls` itself for a class declared in it (not one it inherits).
 static ClassNode *extends_scope(ClassNode *cls, const ast::Extends &ext, ClassNode *root) {
-  if (!ext.base.global && !ext.base.parts.empty())
-    if (auto it = cls->children.find(ext.base.parts[0]); it != cls->children.end() && it->second->def)
+  if (!ext.base.global && !ext.base.parts.empty()) {
+    const std::string &first = ext.base.parts[0];
+    if (auto it = cls->children.find(first); it != cls->children.end() && it->second->def)
       return cls;
+    for (const auto &imp : cls->def->imports) // `import A.B.C; extends C;`
+      if ((imp.alias.empty() ? !imp.wildcard && imp.names.empty() && !imp.path.empty() && imp.path.back() == first
+                             : imp.alias == first) ||
+          std::find(imp.names.begin(), imp.names.end(), first) != imp.names.end())
+        return cls;
+  }
   return cls->parent ? cls->parent : root;
 }
 
@@ -107,6 +116,19 @@ ClassNode *Flattener::find_member_class(ClassNode *cls, const std::string &name,
     return it->second.get(); // an implied package from `within`
   if (depth > 32 || !cls->def)
     return nullptr;
+  // Looking up a base's name can come back to this very search (a base
+  // named like the member sought, found through enclosing scopes): that
+  // path finds nothing.
+  if (!member_searches_.insert({cls, name}).second)
+    return nullptr;
+  struct Done {
+    std::set<std::pair<ClassNode *, std::string>> &set;
+    std::pair<ClassNode *, std::string> key;
+    ~Done() { set.erase(key); }
+  } done{member_searches_, {cls, name}};
+  if (const auto &sb = cls->def->short_base) // `package P = Q`: the members of Q
+    if (ClassNode *base = lookup_class(cls->parent, sb->parts, sb->global, sb->range, false); base && base != cls)
+      return find_member_class(base, name, depth + 1);
   for (const auto &ext : cls->def->extends) {
     ClassNode *base = lookup_class(extends_scope(cls, ext, &lib_.root), ext.base.parts,
                                    ext.base.global, ext.base.range, false);
@@ -161,9 +183,17 @@ ClassNode *Flattener::lookup_class(ClassNode *scope, const std::vector<std::stri
   return found;
 }
 
-bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out) {
+bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out,
+                             const Instance *in) {
   flat::BaseType bt;
-  ClassNode *cls = lookup_class(scope, type.parts, type.global, type.range, false);
+  ClassNode *cls = nullptr;
+  if (in && !type.global && in->replaced.count(type.parts[0])) {
+    cls = in->replaced.at(type.parts[0]);
+    for (std::size_t i = 1; cls && i < type.parts.size(); ++i)
+      cls = find_member_class(cls, type.parts[i]);
+  } else {
+    cls = lookup_class(scope, type.parts, type.global, type.range, false);
+  }
   if (!cls && type.parts.size() == 1 && builtin_type(type.parts[0], bt)) {
     out.is_builtin = true;
     out.builtin = bt;

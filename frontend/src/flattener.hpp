@@ -65,7 +65,12 @@ struct Modifier {
   bool each = false;
   bool final_ = false;
   SourceRange range;
-  bool empty() const { return sub.empty() && !binding; }
+  /// A redeclaration of this element (flatten_redeclare.cpp): the component
+  /// that replaces it, with the class it was written in, or the class.
+  const ast::Component *redecl_component = nullptr;
+  ClassNode *redecl_lexical = nullptr;
+  ClassNode *redecl_class = nullptr;
+  bool empty() const { return sub.empty() && !binding && !redecl_component && !redecl_class; }
 };
 
 /// The type a component declaration resolves to, through short classes.
@@ -103,6 +108,9 @@ struct Instance {
   ast::Variability variability = ast::Variability::Continuous;
   ast::Causality causality = ast::Causality::None;
   bool is_enumeration = false;
+  /// Classes of this instance replaced by a redeclaration, by name: a type
+  /// name of a component of the instance starting with one resolves there.
+  std::map<std::string, ClassNode *> replaced;
 };
 
 /// A value of an array expression during flattening: dims and elements in
@@ -163,7 +171,11 @@ public:
   ClassNode *lookup_class(ClassNode *scope, const std::vector<std::string> &parts, bool global,
                           SourceRange where, bool report = true);
   ClassNode *find_member_class(ClassNode *cls, const std::string &name, unsigned depth = 0);
-  bool resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out);
+  std::set<std::pair<ClassNode *, std::string>> member_searches_; ///< in progress in find_member_class
+  /// The type `type` names in class `scope`; a first name that `in` (the
+  /// instance being built) has replaced by a redeclaration resolves there.
+  bool resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out,
+                    const Instance *in = nullptr);
   /// The bases of `cls` (its `extends`), resolved; reports unknown bases
   /// unless `report` is false (a search that only probes enclosing classes).
   std::vector<std::pair<const ast::Extends *, ClassNode *>> bases(ClassNode *cls, bool report = true);
@@ -181,6 +193,24 @@ public:
   void make_elements(Instance &inst, const ast::Component &comp, const ResolvedType &rt,
                      const Modifier &mod, unsigned depth);
   void check_modifier_names(const Instance &inst, const Modifier &mod);
+  /// The `inner` element `name` of the nearest instance enclosing `from`, or null.
+  Instance *find_inner(const Instance &from, const std::string &name);
+
+  // -- redeclarations (flatten_redeclare.cpp)
+  /// Fills `node` with the redeclaration `em` (a component or a class),
+  /// written in class `lexical` at instance `scope`.
+  void redeclaration(const ast::ElementMod &em, Instance *scope, ClassNode *lexical, Modifier &node);
+  /// The modifier that class `cls`'s own `redeclare` elements put on its
+  /// bases, and records its redeclared classes in `inst.replaced`.
+  Modifier own_redeclarations(Instance &inst, ClassNode *cls);
+  /// Records the class redeclarations of `mod` in `inst.replaced`.
+  void replace_classes(Instance &inst, const Modifier &mod);
+  /// Instantiates `comp` of class `cls` as redeclared by `mod`: the new
+  /// declaration's type with the original declaration's modifiers (or its
+  /// constraining clause's) under the redeclaration's and outer ones.
+  void instantiate_redeclared(Instance &inst, const ast::Component &comp, ClassNode *cls, const Modifier &mod,
+                              unsigned depth);
+  std::vector<std::unique_ptr<ClassNode>> synthetic_classes_; ///< short classes of redeclarations
   /// A binding, flattened and taken at the modifier's element index.
   ast::ExprPtr binding_expr(const Modifier &m);
 
@@ -241,6 +271,8 @@ public:
   // -- equations and connections (flatten_equations.cpp, flatten_connect.cpp)
   void flatten_equations(Instance &inst);
   void equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
+  void tuple_equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
+  void equal_elements(const ast::Equation &eq, Tensor &l, Tensor &r, std::vector<ast::Equation> &out);
   void connect(const ast::Equation &eq, const Scope &s);
   void finish_connections();
 

@@ -382,3 +382,97 @@ TEST_CASE("connections to a switched-off conditional component are removed", "[m
     end Circuit;)");
   CHECK_FALSE(contains(s, "g.p"));
 }
+
+TEST_CASE("tuple equations take the outputs of a function, size() of an unassigned output", "[msl][functions]") {
+  const char *src = R"(
+    function split
+      input Integer n;
+      input Real x;
+      output Real parts[n];
+      output Real total;
+    algorithm
+      for i in 1:size(parts, 1) loop
+        parts[i] := x / n;
+      end for;
+      total := x;
+    end split;
+    model Use
+      parameter Real p[2](each fixed = false);
+      parameter Real q(fixed = false);
+      Real a[3];
+      Real b;
+    initial equation
+      (p, q) = split(2, 6);
+    equation
+      (a, ) = split(3, time);
+      (, b) = split(1, 2 * time);
+    end Use;)";
+  const std::string s = flat(src);
+  CHECK(contains(s, "`a[3]` = time / 3;"));
+  CHECK(contains(s, "b = 2 * time;"));
+  CHECK(contains(s, "`p[2]` = 6 / 2;"));
+  CHECK(contains(s, "q = 6;"));
+  Compiled bad = compile_text(R"(
+    model Bad
+      Real a, b;
+    equation
+      (a, b) = sin(time);
+    end Bad;)");
+  CHECK(contains(bad.diagnostics, "the right side of a tuple equation must call a user function"));
+}
+
+TEST_CASE("algorithm sections of models that assign each variable once are equations", "[msl][algorithm]") {
+  const char *src = R"(
+    model Alg
+      parameter Real period = 0.5;
+      Integer count;
+      Real T_start;
+      Real y;
+      Real z;
+    initial algorithm
+      count := integer(time / period);
+      T_start := count * period;
+    algorithm
+      when integer(time / period) > pre(count) then
+        count := pre(count) + 1;
+        T_start := time;
+      end when;
+      y := time - T_start;
+      z := 2 * y;
+    end Alg;)";
+  const std::string s = flat(src);
+  CHECK(contains(s, "  when integer(time / period) > pre(count) then\n    count = pre(count) + 1;\n"
+                    "    T_start = time;\n  end when;\n  y = time - T_start;\n  z = 2 * y;\n"));
+  CHECK(contains(s, "initial equation\n  count = integer(time / period);\n  T_start = count * period;\n"));
+  SECTION("a variable assigned twice, or read before it is assigned, keeps the section an algorithm") {
+    for (const char *body : {"y := 1; y := y + time;", "z := y; y := time;", "if time > 1 then y := 1; else y := 2; end if; z := y;"}) {
+      Compiled c = compile_text(std::string("model A\n  Real y, z;\nalgorithm\n  ") + body + "\nend A;\n");
+      INFO(body);
+      CHECK_FALSE(c.ok());
+      CHECK(contains(c.diagnostics, "3:1: error: this algorithm section is not supported"));
+    }
+  }
+}
+
+TEST_CASE("a base class named by an import of the class itself", "[msl][lookup]") {
+  const char *src = R"(
+    package P
+      package Interfaces
+        partial model Rigid
+          Real s(start = 1, fixed = true);
+        end Rigid;
+      end Interfaces;
+      package Components
+        model Mass
+          import P.Interfaces.Rigid;
+          extends Rigid(s(start = 2));
+        equation
+          der(s) = -s;
+        end Mass;
+      end Components;
+    end P;
+    model Use
+      P.Components.Mass m;
+    end Use;)";
+  CHECK(contains(flat(src), "Real `m.s`(start = 2, fixed = true);"));
+}

@@ -103,6 +103,8 @@ ExprPtr make_call(std::string fn, std::vector<ExprPtr> args, SourceRange r = {})
 
 /// A modification: `(a = 1, b(start = 2)) = binding`.
 struct ElementMod;
+struct Component;
+struct ClassDef;
 struct Modification {
   std::vector<ElementMod> args;
   ExprPtr binding;
@@ -114,10 +116,14 @@ struct Modification {
 struct ElementMod {
   bool each = false;
   bool final_ = false;
-  bool redeclare = false; ///< parsed, reported unsupported when instantiated
-  std::vector<std::string> path;
+  bool redeclare = false; ///< `redeclare ...` or `replaceable ...` in a modifier
+  std::vector<std::string> path; ///< a redeclaration: the redeclared element's name
   Modification mod;
   SourceRange range;
+  /// A redeclaration: `redeclare T name(...)` (component) or
+  /// `redeclare model name = T(...)` (short class); exactly one is set.
+  std::unique_ptr<Component> component;
+  std::unique_ptr<ClassDef> class_def;
 };
 
 enum class Variability : std::uint8_t { Continuous, Discrete, Parameter, Constant };
@@ -147,6 +153,10 @@ struct Component {
   Modification mod;
   ExprPtr condition;
   std::string description;
+  /// `replaceable ... constrainedby T(mods)`: the constraining type's
+  /// modifiers, which a redeclaration keeps instead of `mod` (MLS 7.3.2).
+  bool has_constraint = false;
+  Modification constraint_mod;
 };
 
 struct Extends {
@@ -237,6 +247,7 @@ struct ClassDef {
   Restriction restriction = Restriction::Class;
   bool partial = false, encapsulated = false, final_ = false;
   bool is_protected = false;
+  bool replaceable = false, redeclare = false; ///< element prefixes of a nested class
   std::string description;
 
   /// Short class `type Voltage = Real(unit = "V")` or `extends`-like alias.

@@ -1,0 +1,102 @@
+// Redeclarations (MLS 7.3): `redeclare T x(...)` and `redeclare model M = T`
+// in modifiers and extends clauses, `replaceable` elements, `constrainedby`,
+// and `redeclare` elements of a class that extends the one declaring them.
+//
+// A redeclaration is carried by the Modifier of the element it replaces, so
+// that the usual merge (outer modifications win) also picks the outermost
+// redeclaration. Redeclared classes are recorded per instance
+// (Instance::replaced) and consulted when a component type of that instance
+// is resolved.
+#include "flattener.hpp"
+
+namespace mo::frontend::detail {
+
+void Flattener::redeclaration(const ast::ElementMod &em, Instance *scope, ClassNode *lexical, Modifier &node) {
+  Modifier r;
+  if (em.component) {
+    r = make_modifier(em.component->mod, scope, lexical);
+    r.redecl_component = em.component.get();
+    r.redecl_lexical = lexical;
+  } else if (em.class_def) {
+    const ast::ClassDef &def = *em.class_def;
+    ClassNode *target = nullptr;
+    // `redeclare package P = Q`: Q itself, looked up where the modifier was
+    // written (a class that instance replaced first); otherwise a class node
+    // of its own, whose short base is looked up in that scope.
+    if (def.short_base && def.class_mod.empty() && def.short_dims.empty()) {
+      const ast::TypeName &b = *def.short_base;
+      if (scope && !b.global && scope->replaced.count(b.parts[0])) {
+        target = scope->replaced.at(b.parts[0]);
+        for (std::size_t i = 1; target && i < b.parts.size(); ++i)
+          target = find_member_class(target, b.parts[i]);
+      } else {
+        target = lookup_class(lexical, b.parts, b.global, b.range, false);
+      }
+    }
+    if (!target) {
+      auto node_ptr = std::make_unique<ClassNode>();
+      node_ptr->name = def.name;
+      node_ptr->def = &def;
+      node_ptr->parent = lexical;
+      target = node_ptr.get();
+      synthetic_classes_.push_back(std::move(node_ptr));
+    }
+    r.redecl_class = target;
+  }
+  r.each = em.each;
+  r.final_ = em.final_;
+  r.range = em.range;
+  if (node.range.file == 0)
+    node.range = em.range;
+  merge_into(node, r);
+}
+
+Modifier Flattener::own_redeclarations(Instance &inst, ClassNode *cls) {
+  Modifier out;
+  const ast::ClassDef &def = *cls->def;
+  for (const auto &c : def.components) {
+    if (!c.redeclare)
+      continue;
+    Modifier &node = out.sub[c.name];
+    node = make_modifier(c.mod, &inst, cls);
+    node.redecl_component = &c;
+    node.redecl_lexical = cls;
+    node.range = c.range;
+  }
+  for (const auto &nested : def.classes) {
+    if (!nested->redeclare)
+      continue;
+    auto it = lib_.node_of.find(nested.get());
+    if (it == lib_.node_of.end())
+      continue;
+    Modifier &node = out.sub[nested->name];
+    node.redecl_class = it->second;
+    node.range = nested->range;
+  }
+  return out;
+}
+
+void Flattener::replace_classes(Instance &inst, const Modifier &mod) {
+  for (const auto &[name, sub] : mod.sub)
+    if (sub.redecl_class)
+      inst.replaced[name] = sub.redecl_class;
+}
+
+void Flattener::instantiate_redeclared(Instance &inst, const ast::Component &comp, ClassNode *cls,
+                                       const Modifier &mod, unsigned depth) {
+  // Reported, then instantiated as redeclared all the same (one diagnostic).
+  if (comp.final_)
+    diags_.report(DiagId::NotReplaceable, mod.range, "'" + comp.name + "' is final and cannot be redeclared");
+  else if (!comp.replaceable)
+    diags_.report(DiagId::NotReplaceable, mod.range,
+                  "'" + comp.name + "' is redeclared but its declaration is not 'replaceable'");
+  // The original declaration's modifiers stay, or those of its constraining
+  // clause when it has one (MLS 7.3.2); the redeclaration's and outer ones win.
+  Modifier cmod = make_modifier(comp.has_constraint ? comp.constraint_mod : comp.mod, &inst, cls);
+  Modifier outer = mod;
+  outer.redecl_component = nullptr; // the new declaration's own type resolves below
+  merge_into(cmod, outer);
+  instantiate_component(inst, *mod.redecl_component, mod.redecl_lexical, std::move(cmod), depth);
+}
+
+} // namespace mo::frontend::detail

@@ -1,0 +1,116 @@
+// Redeclarations and replaceable elements (MLS 7.3) and inner/outer
+// elements (MLS 5.4): each model in data/elements/ flattens to the exact flat text pinned beside it
+// (NAME.mo → NAME.flat; MO_UPDATE_GOLDEN=1 rewrites them), and that text
+// flattens again to itself. Bad redeclarations are pinned in data/bad/.
+#include "compile.hpp"
+
+#include <catch2/catch.hpp>
+#include <cstdlib>
+#include <filesystem>
+
+using namespace mo::test;
+
+namespace {
+const std::string kElements = std::string(MO_TEST_DATA_DIR) + "/elements/";
+
+std::string flat_of(const std::string &name, const std::string &text) {
+  Compiled c = compile({{name, text}});
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  CHECK(c.diagnostics.empty());
+  return c.model->print();
+}
+
+std::string errors_of(const std::string &text) {
+  Compiled c = compile({{"m.mo", text}});
+  CHECK_FALSE(c.ok());
+  return c.diagnostics;
+}
+
+bool contains(const std::string &s, const std::string &part) { return s.find(part) != std::string::npos; }
+} // namespace
+
+TEST_CASE("every element-prefix model flattens to its pinned flat text, which flattens to itself", "[redeclare]") {
+  auto files = list_files(kElements, ".mo");
+  REQUIRE(files.size() >= 4);
+  const bool update = std::getenv("MO_UPDATE_GOLDEN") != nullptr;
+  for (const auto &f : files) {
+    INFO("model: " << f);
+    const std::string name = std::filesystem::path(f).filename().string();
+    const std::string got = flat_of(name, read_file(f));
+    const std::string expected_path = f.substr(0, f.size() - 3) + ".flat";
+    if (update)
+      write_file(expected_path, got);
+    CHECK(got == read_file(expected_path));
+    CHECK(flat_of(name + ".flat", got) == got);
+  }
+}
+
+TEST_CASE("the outermost redeclaration wins, and a redeclared array element type applies to every element",
+          "[redeclare]") {
+  const std::string s = flat_of("m.mo", R"(
+    model M
+      block A
+        parameter Real k = 1;
+        output Real y = k;
+      end A;
+      block B
+        parameter Real k = 1;
+        output Real y = 2 * k;
+      end B;
+      block C
+        parameter Real k = 1;
+        output Real y = 3 * k;
+      end C;
+      model H
+        replaceable A a[2];
+      end H;
+      model H2
+        extends H(redeclare B a[2]);
+      end H2;
+      H2 h(redeclare C a[2](each k = 4));
+    end M;)");
+  CHECK(contains(s, "`h.a[1].y` = 3 * `h.a[1].k`;"));
+  CHECK(contains(s, "`h.a[2].k` = 4;"));
+}
+
+TEST_CASE("bad redeclarations are reported at the redeclaration", "[redeclare]") {
+  SECTION("a final replaceable element") {
+    const std::string d = errors_of(R"(
+      model M
+        block A output Real y = 1; end A;
+        block B output Real y = 2; end B;
+        model H final replaceable A a; end H;
+        H h(redeclare B a);
+      end M;)");
+    CHECK(contains(d, "m.mo:6:13: error: 'a' is final and cannot be redeclared"));
+  }
+  SECTION("a redeclare element with nothing inherited to replace") {
+    const std::string d = errors_of(R"(
+      model M
+        model H Real x = 1; end H;
+        model D extends H; redeclare Real z = 2; end D;
+        D d;
+      end M;)");
+    CHECK(contains(d, "m.mo:4:43: error: 'z' is redeclared but no base class declares it"));
+  }
+  SECTION("a redeclaration of an element the class does not have") {
+    const std::string d = errors_of(R"(
+      model M
+        block A output Real y = 1; end A;
+        model H replaceable A a; end H;
+        H h(redeclare A b);
+      end M;)");
+    CHECK(contains(d, "error: modifier 'b' does not name an element of component 'h' of type 'H'"));
+  }
+}
+
+TEST_CASE("an outer element without an enclosing inner one is reported", "[redeclare][inner]") {
+  const std::string d = errors_of(R"(
+    model M
+      model E Real x = time; end E;
+      model U outer E e; Real y = e.x; end U;
+      U u;
+    end M;)");
+  CHECK(contains(d, "m.mo:4:23: error: no enclosing instance declares an 'inner' element 'e' for this 'outer' one"));
+}
