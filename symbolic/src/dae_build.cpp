@@ -40,6 +40,26 @@ int Dae::derivative_of(int v) {
 
 namespace {
 
+/// The first parameter declared `fixed = false` that `e` references, or -1.
+std::int32_t free_start_parameter(const ast::Expr& e, const flat::Model& f) {
+  std::vector<const ast::Expr*> todo{&e};
+  while (!todo.empty()) {
+    const ast::Expr* x = todo.back();
+    todo.pop_back();
+    if (x->var >= 0) {
+      const flat::Variable& v = f.variables[static_cast<std::size_t>(x->var)];
+      const ast::Expr* fixed = v.attr.fixed.get();
+      if (v.variability == ast::Variability::Parameter && fixed &&
+          fixed->kind == ast::ExprKind::Boolean && fixed->number == 0.0)
+        return x->var;
+    }
+    for (const auto& a : x->args) if (a) todo.push_back(a.get());
+    for (const auto& n : x->named) if (n.value) todo.push_back(n.value.get());
+    for (const auto& row : x->rows) for (const auto& a : row) if (a) todo.push_back(a.get());
+  }
+  return -1;
+}
+
 /// What a flat variable became.
 struct Slot {
   enum Kind { Unset, Var, Value } kind = Unset;
@@ -255,6 +275,15 @@ void Builder::initial_equations() {
   for (const ast::Equation& eq : f_.initial_equations) {
     switch (eq.kind) {
     case ast::EquationKind::Simple: {
+      std::int32_t p = free_start_parameter(*eq.lhs, f_);
+      if (p < 0) p = free_start_parameter(*eq.rhs, f_);
+      if (p >= 0) {  // a parameter computed at initialisation: not supported
+        diags_.report(DiagId::ParameterWithoutValue, eq.range,
+                      "parameter '" + fv(p).name + "' is declared fixed = false: parameters "
+                      "computed by initial equations are not supported, so this initial "
+                      "equation is ignored and the parameter keeps its value");
+        continue;
+      }
       DaeEq e;
       e.residual = dae_.arena.sub(conv_->convert(*eq.lhs), conv_->convert(*eq.rhs));
       e.range = eq.range;

@@ -138,3 +138,12 @@ TEST_CASE("inherited and array initial equations determine every state (interpre
   CHECK(x0[m.state_index("y").value()] == Approx(2.0).epsilon(1e-14));     // y = a
   CHECK(x0[m.state_index("x[2]").value()] == Approx(2.0).epsilon(1e-14));  // y - x2 = 0
 }
+
+TEST_CASE("an initial equation of a fixed = false parameter is ignored with a warning") {
+  const auto [ok, text] = lower_text("FreeParameter");
+  INFO(text);
+  REQUIRE(ok);
+  CHECK(text.find("FreeParameter.mo:9:3: warning: parameter 'T_final' is declared fixed = false") !=
+        std::string::npos);
+  CHECK(text.find("over-determined") == std::string::npos);
+}
