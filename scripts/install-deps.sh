@@ -26,6 +26,7 @@ packages=(
   gnuplot-nox jq clang-14 libclang-rt-14-dev
   chromium  # the test that opens report.html headless
   libopenmpi-dev openmpi-bin  # optional: multistart across machines (mpirun -n K morun)
+  python3  # bench/msl_examples.py, run by the slow test msl_examples_pinned
 )
 if [ "$with_scilab" = 1 ]; then
   # Scilab itself (launcher, Java GUI libraries, Xcos, the Modelica translator
