@@ -4,8 +4,10 @@
 // differences of whole simulations (rtol 1e-10 for the sensitivities, 1e-11
 // and a relative step of 1e-5 for the differences). Tolerance: 1e-3 of the largest |S| of the
 // entry over the run (+ 1e-6), at output times more than 1e-3·tf from an event.
-// Skipped when the corpus is absent; a model that does not lower or simulate
+// Model inputs (driven by non-Modelica blocks in the diagram) follow the
+// run's recorded input columns. Skipped when the corpus is absent; a model that does not lower or simulate
 // yet (other work) is skipped with its reason.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -13,6 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "e2e/support.hpp"
+#include "mo/runtime/input.hpp"
 #include "mo/runtime/simulate.hpp"
 #include "mo/symbolic/sensitivities.hpp"
 
@@ -66,6 +69,24 @@ std::vector<std::string> two_parameters(const fs::path& file) {
   return out;
 }
 
+/// Every model input driven by its column of the corpus's recorded run
+/// (`ref/<name>.csv`, where Scilab's non-Modelica blocks wrote it), as the
+/// corpus comparison drives them; `reason` says which input is missing.
+std::optional<runtime::Inputs> recorded_inputs(const runtime::ModelInfo& info, const fs::path& csv,
+                                               std::string& reason) {
+  if (info.inputs.empty()) return runtime::Inputs{};
+  auto table = std::make_shared<const runtime::InputTable>(runtime::read_input_csv(csv.string()));
+  runtime::Inputs inputs;
+  for (const auto& u : info.inputs) {
+    if (std::find(table->names.begin(), table->names.end(), u.name) == table->names.end()) {
+      reason = "input " + u.name + " is not recorded in " + csv.filename().string();
+      return std::nullopt;
+    }
+    inputs.add(runtime::table_input(table, u.name));
+  }
+  return inputs;
+}
+
 double final_time(const fs::path& json_file) {
   std::ifstream in(json_file);
   return nlohmann::json::parse(in)["tf"].get<double>();
@@ -110,7 +131,13 @@ TEST_CASE("Xcos corpus models with events: sensitivities through events = centra
     o.relative_tolerance = 1e-10;
     o.absolute_tolerance = 1e-12;
     const auto p = plain->info().default_parameters();
-    const auto nominal = runtime::simulate(*plain, {}, p, grid, o);
+    std::string missing;
+    const auto inputs = recorded_inputs(plain->info(), shared / "xcos-corpus" / "ref" / (name + ".csv"), missing);
+    if (!inputs) {
+      WARN("SKIPPED " << name << ": " << missing);
+      continue;
+    }
+    const auto nominal = runtime::simulate(*plain, *inputs, p, grid, o);
     if (!nominal.ok()) {
       WARN("SKIPPED " << name << ": does not simulate yet: " << nominal.message);
       continue;
@@ -118,7 +145,7 @@ TEST_CASE("Xcos corpus models with events: sensitivities through events = centra
     auto os = o;
     os.sensitivities.method = runtime::SensitivityMethod::model_states;
     for (const auto& q : params) os.sensitivities.parameters.push_back(parameter(augmented->info(), q));
-    const auto sens = runtime::simulate(*augmented, {}, augmented->info().default_parameters(), grid, os);
+    const auto sens = runtime::simulate(*augmented, *inputs, augmented->info().default_parameters(), grid, os);
     INFO(name << ": " << sens.message);
     REQUIRE(sens.ok());
     const std::size_t nb = plain->info().states.size();
@@ -131,9 +158,9 @@ TEST_CASE("Xcos corpus models with events: sensitivities through events = centra
       reference.relative_tolerance = 1e-11;
       reference.absolute_tolerance = 1e-13;
       q[k] = p[k] + h;
-      const auto plus = runtime::simulate(*plain, {}, q, grid, reference);
+      const auto plus = runtime::simulate(*plain, *inputs, q, grid, reference);
       q[k] = p[k] - h;
-      const auto minus = runtime::simulate(*plain, {}, q, grid, reference);
+      const auto minus = runtime::simulate(*plain, *inputs, q, grid, reference);
       REQUIRE(plus.ok());
       REQUIRE(minus.ok());
       for (std::size_t i = 0; i < nb; ++i) {
