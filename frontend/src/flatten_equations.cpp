@@ -74,6 +74,24 @@ bool Flattener::is_constant(const Expr &e) const {
   return true;
 }
 
+bool Flattener::already_evaluated(const Expr &e) const {
+  std::vector<const Expr *> work{&e};
+  while (!work.empty()) {
+    const Expr *x = work.back();
+    work.pop_back();
+    if (x->kind == ExprKind::Ref) {
+      if (x->var < 0 || static_cast<std::size_t>(x->var) >= param_state_.size() || param_state_[x->var] != 2 ||
+          !model_->variables[x->var].value)
+        return false;
+    }
+    if (x->kind == ExprKind::Call)
+      return false;
+    for (const auto &a : x->args)
+      if (a) work.push_back(a.get());
+  }
+  return true;
+}
+
 void Flattener::flatten_bindings() {
   for (auto &p : pending_) {
     if (!p.mod.binding)

@@ -2,22 +2,29 @@
 //
 // The function's algorithm is executed symbolically on the arguments'
 // flattened expressions: each assignment replaces the expression bound to
-// its target, an `if` whose condition is known picks its branch and one that
-// depends on variables merges both branches into if-expressions, a `for` over
-// a constant range is unrolled and a `while` runs while its condition
-// evaluates to a constant. What cannot be turned into expressions (`when`,
-// `return`/`break` under a condition that varies, record or external "C"
-// functions, a `while` whose condition varies) gets a diagnostic.
+// its target, an `if` whose condition is known (numbers only, or parameters
+// whose values already sized an array or chose a branch) picks its branch and
+// one that depends on variables merges both branches into if-expressions, a
+// `for` over a constant range is unrolled and a `while` runs while its
+// condition evaluates to a constant. What cannot be turned into expressions
+// (`when`, `return`/`break` under a condition that varies, `error(...)` and
+// other statements with effects, record or external "C" functions, a `while`
+// whose condition varies) is, when every argument is a parameter expression,
+// run again on the arguments' values (a root search in a parameter binding),
+// with a warning that the result no longer follows those parameters;
+// otherwise it gets a diagnostic.
 // `external "builtin"` functions are the built-ins they name.
 #include "flattener.hpp"
 #include "mo/frontend/printer.hpp"
 
 #include <fmt/format.h>
+#include <set>
 
 namespace mo::frontend::detail {
 
 using ast::Expr;
 using ast::ExprKind;
+using ast::Op;
 using ast::ExprPtr;
 using ast::Statement;
 using ast::StatementKind;
@@ -46,6 +53,15 @@ bool is_literal(const Expr &e) {
   return e.kind == ExprKind::Real || e.kind == ExprKind::Integer || e.kind == ExprKind::Boolean;
 }
 
+/// A call of a pure built-in that Flattener::eval computes (sqrt, abs, ...).
+bool foldable_builtin(const Expr &call) {
+  static const std::set<std::string> names{"sin",   "cos",  "tan",   "asin", "acos",  "atan",    "sinh", "cosh",
+                                           "tanh",  "exp",  "log",   "log10", "sqrt", "abs",     "floor", "ceil",
+                                           "integer", "sign", "noEvent", "atan2", "min", "max",    "div",  "mod",
+                                           "rem",   "smooth"};
+  return call.var < 0 && call.ref.parts.size() == 1 && names.count(call.ref.parts[0].name) > 0;
+}
+
 /// True when `e` is built from literals only (no variable, no parameter, no
 /// operator on time such as pre or der): it can be folded without fixing the
 /// value of anything a user may change.
@@ -66,6 +82,11 @@ bool literals_only(const Expr &e) {
         work.push_back(a.get());
       break;
     case ExprKind::Call:
+      if (!foldable_builtin(*x))
+        return false;
+      for (const auto &a : x->args)
+        work.push_back(a.get());
+      break;
     case ExprKind::Ref:
     case ExprKind::String:
     case ExprKind::Array:
@@ -156,10 +177,37 @@ std::vector<std::size_t> selection(Flattener &f, const std::vector<ExprPtr> &sub
   return out;
 }
 
-/// Executes one function's algorithm on symbolic values.
+/// True if `e` is a Boolean by its top operation (a literal, a relation, and/or/not).
+bool is_boolean_valued(const Expr &e) {
+  if (e.kind == ExprKind::Boolean)
+    return true;
+  if (e.kind == ExprKind::Unary)
+    return e.op == Op::Not;
+  if (e.kind != ExprKind::Binary)
+    return false;
+  switch (e.op) {
+  case Op::Lt: case Op::Le: case Op::Gt: case Op::Ge: case Op::Eq: case Op::Ne: case Op::And: case Op::Or:
+    return true;
+  case Op::Add: case Op::Sub: case Op::Mul: case Op::Div: case Op::Pow: case Op::ElemAdd: case Op::ElemSub:
+  case Op::ElemMul: case Op::ElemDiv: case Op::ElemPow: case Op::Neg: case Op::Plus: case Op::Not:
+    return false;
+  }
+  return false;
+}
+
+/// A statement the symbolic inliner cannot express; call_function reports it
+/// (or retries with the arguments' values, see there).
+struct InlineUnsupported {
+  SourceRange range;
+  std::string what;
+};
+
+/// Executes one function's algorithm on symbolic values. With `numeric`, the
+/// inputs are numbers and every assigned value that is numbers only is folded
+/// to one, so loops that iterate to a tolerance stay small.
 class Inliner {
 public:
-  Inliner(Flattener &f, ClassNode *fn) : f_(f), fn_(fn) {}
+  Inliner(Flattener &f, ClassNode *fn, bool numeric = false) : f_(f), fn_(fn), numeric_(numeric) {}
 
   FunctionLocals values;
 
@@ -179,13 +227,22 @@ public:
 private:
   Flattener &f_;
   ClassNode *fn_;
+  bool numeric_;
   ClassNode *cls_ = nullptr;
   LoopEnv env_;
   bool returned_ = false, broke_ = false;
 
-  [[noreturn]] void unsupported(SourceRange r, const std::string &what) {
-    f_.fail(DiagId::Unsupported, r,
-            "cannot inline function '" + fn_->path() + "': " + what);
+  [[noreturn]] void unsupported(SourceRange r, const std::string &what) { throw InlineUnsupported{r, what}; }
+
+  /// In numeric mode, elements made of numbers only become one number.
+  void fold(Tensor &t) {
+    if (!numeric_)
+      return;
+    for (auto &e : t.elems)
+      if (e && !is_literal(*e) && literals_only(*e)) {
+        const double v = f_.eval(*e, e->range);
+        e = is_boolean_valued(*e) ? ast::make_bool(v != 0, e->range) : ast::make_real(v, e->range);
+      }
   }
 
   void exec(const std::vector<Statement> &body) {
@@ -250,7 +307,9 @@ private:
       return;
     }
     ExprPtr c = f_.scalar_expr(*b.condition, scope(cls_));
-    if (!is_literal(*c) && literals_only(*c))
+    // Parameters that already sized arrays (a filter's `order`) decide now:
+    // the other branches may index past those sizes.
+    if (!is_literal(*c) && (literals_only(*c) || f_.already_evaluated(*c)))
       c = ast::make_bool(f_.eval(*c, b.condition->range) != 0, b.condition->range);
     if (is_literal(*c)) {
       if (c->number != 0)
@@ -334,6 +393,7 @@ private:
 
 private:
   void assign(const Expr &target, Tensor value) {
+    fold(value);
     if (target.kind != ExprKind::Ref || target.ref.global || target.ref.parts.size() != 1)
       unsupported(target.range, "only a local variable or an element of one can be assigned");
     const ast::RefPart &part = target.ref.parts[0];
@@ -439,6 +499,82 @@ std::vector<const Expr *> match_arguments(Flattener &f, const Signature &sig, co
 
 } // namespace
 
+namespace {
+
+/// Runs `fn`'s algorithm on `arguments` (the given inputs), symbolically or,
+/// with `numeric`, on numbers; throws InlineUnsupported where it cannot.
+std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
+                                std::vector<Tensor> arguments, const Expr &call, std::size_t wanted,
+                                bool numeric) {
+  const std::string fn_name = fn->path();
+  Inliner in(f, fn, numeric);
+  for (std::size_t i = 0; i < sig.inputs.size(); ++i)
+    if (given[i])
+      in.values[sig.inputs[i].first->name] = std::move(arguments[i]);
+  // Declared sizes, defaults and bindings, in declaration order.
+  auto declare = [&](const ast::Component &c, ClassNode *owner, bool is_input, bool has_value) {
+    Scope fs = in.scope(owner);
+    ResolvedType rt;
+    if (!f.resolve_type(owner, c.type, rt))
+      throw Reported{};
+    if (!rt.is_builtin)
+      f.fail(DiagId::Unsupported, c.range,
+           "cannot inline function '" + fn_name + "': '" + c.name + "' is a record or class instance");
+    std::vector<int> dims;
+    bool sized = true;
+    for (const auto &d : c.dims) {
+      if (d->kind == ExprKind::Colon) {
+        sized = false;
+        continue;
+      }
+      dims.push_back(static_cast<int>(f.eval_int(*d, fs)));
+    }
+    dims.insert(dims.end(), rt.dims.begin(), rt.dims.end());
+    if (has_value) {
+      const Tensor &t = in.values.at(c.name);
+      if (sized && t.dims != dims)
+        f.fail(DiagId::TypeMismatch, call.range,
+             "argument '" + c.name + "' of function '" + fn_name + "' has the wrong size");
+      return;
+    }
+    if (c.mod.binding) {
+      in.values[c.name] = f.expr(*c.mod.binding, fs);
+      return;
+    }
+    if (is_input)
+      f.fail(DiagId::WrongArgumentCount, call.range,
+           "input '" + c.name + "' of function '" + fn_name + "' is missing and has no default");
+    Tensor t;
+    t.dims = sized ? dims : std::vector<int>{};
+    std::size_t n = 1;
+    for (int d : t.dims)
+      n *= static_cast<std::size_t>(d);
+    t.elems.resize(n);
+    in.values[c.name] = std::move(t);
+  };
+  for (std::size_t i = 0; i < sig.inputs.size(); ++i)
+    declare(*sig.inputs[i].first, sig.inputs[i].second, true, given[i]);
+  for (const auto &[c, owner] : sig.outputs)
+    declare(*c, owner, false, false);
+  for (const auto &[c, owner] : sig.locals)
+    declare(*c, owner, false, false);
+  for (const auto &[body, owner] : sig.algorithms)
+    in.run(*body, owner);
+  std::vector<Tensor> out;
+  for (std::size_t i = 0; i < std::max<std::size_t>(wanted, 1); ++i) {
+    const std::string &name = sig.outputs[i].first->name;
+    Tensor &t = in.values.at(name);
+    for (const auto &e : t.elems)
+      if (!e)
+        f.fail(DiagId::EvaluationError, call.range,
+             "output '" + name + "' of function '" + fn_name + "' is not assigned");
+    out.push_back(std::move(t));
+  }
+  return out;
+}
+
+} // namespace
+
 std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, const Scope &s,
                                              std::size_t wanted) {
   const ast::ClassDef &def = *fn->def;
@@ -482,12 +618,12 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
     return out;
   }
 
-  Inliner in(*this, fn);
   // Inputs: the caller's arguments, flattened in the caller's scope.
+  std::vector<Tensor> arguments(sig.inputs.size());
   std::vector<bool> given(sig.inputs.size());
   for (std::size_t i = 0; i < sig.inputs.size(); ++i)
     if (args[i]) {
-      in.values[sig.inputs[i].first->name] = expr(*args[i], s);
+      arguments[i] = expr(*args[i], s);
       given[i] = true;
     }
   ++function_depth_;
@@ -495,66 +631,40 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
     unsigned &d;
     ~DepthGuard() { --d; }
   } guard{function_depth_};
-  // Declared sizes, defaults and bindings, in declaration order.
-  auto declare = [&](const ast::Component &c, ClassNode *owner, bool is_input, bool has_value) {
-    Scope fs = in.scope(owner);
-    ResolvedType rt;
-    if (!resolve_type(owner, c.type, rt))
-      throw Reported{};
-    if (!rt.is_builtin)
-      fail(DiagId::Unsupported, c.range,
-           "cannot inline function '" + fn_name + "': '" + c.name + "' is a record or class instance");
-    std::vector<int> dims;
-    bool sized = true;
-    for (const auto &d : c.dims) {
-      if (d->kind == ExprKind::Colon) {
-        sized = false;
-        continue;
-      }
-      dims.push_back(static_cast<int>(eval_int(*d, fs)));
-    }
-    dims.insert(dims.end(), rt.dims.begin(), rt.dims.end());
-    if (has_value) {
-      const Tensor &t = in.values.at(c.name);
-      if (sized && t.dims != dims)
-        fail(DiagId::TypeMismatch, call.range,
-             "argument '" + c.name + "' of function '" + fn_name + "' has the wrong size");
-      return;
-    }
-    if (c.mod.binding) {
-      in.values[c.name] = expr(*c.mod.binding, fs);
-      return;
-    }
-    if (is_input)
-      fail(DiagId::WrongArgumentCount, call.range,
-           "input '" + c.name + "' of function '" + fn_name + "' is missing and has no default");
-    Tensor t;
-    t.dims = sized ? dims : std::vector<int>{};
-    std::size_t n = 1;
-    for (int d : t.dims)
-      n *= static_cast<std::size_t>(d);
-    t.elems.resize(n);
-    in.values[c.name] = std::move(t);
+  auto cloned = [](const std::vector<Tensor> &ts) {
+    std::vector<Tensor> out;
+    for (const Tensor &t : ts)
+      out.push_back(clone_tensor(t));
+    return out;
   };
-  for (std::size_t i = 0; i < sig.inputs.size(); ++i)
-    declare(*sig.inputs[i].first, sig.inputs[i].second, true, given[i]);
-  for (const auto &[c, owner] : sig.outputs)
-    declare(*c, owner, false, false);
-  for (const auto &[c, owner] : sig.locals)
-    declare(*c, owner, false, false);
-  for (const auto &[body, owner] : sig.algorithms)
-    in.run(*body, owner);
-  std::vector<Tensor> out;
-  for (std::size_t i = 0; i < std::max<std::size_t>(wanted, 1); ++i) {
-    const std::string &name = sig.outputs[i].first->name;
-    Tensor &t = in.values.at(name);
-    for (const auto &e : t.elems)
-      if (!e)
-        fail(DiagId::EvaluationError, call.range,
-             "output '" + name + "' of function '" + fn_name + "' is not assigned");
-    out.push_back(std::move(t));
+  const auto report = [&](const InlineUnsupported &u) {
+    fail(DiagId::Unsupported, u.range, "cannot inline function '" + fn_name + "': " + u.what);
+  };
+  try {
+    return inline_call(*this, fn, sig, given, cloned(arguments), call, wanted, false);
+  } catch (const InlineUnsupported &u) {
+    // A loop to a tolerance, an error() on a bad input, ...: with parameter
+    // arguments (a filter's coefficients) the call can still be evaluated now.
+    for (const Tensor &t : arguments)
+      for (const auto &e : t.elems)
+        if (e && !is_constant(*e))
+          report(u);
+    for (Tensor &t : arguments)
+      for (auto &e : t.elems)
+        if (e && !is_literal(*e))
+          e = ast::make_real(eval(*e, call.range), call.range);
+    std::vector<Tensor> out;
+    try {
+      out = inline_call(*this, fn, sig, given, std::move(arguments), call, wanted, true);
+    } catch (const InlineUnsupported &again) {
+      report(again);
+    }
+    diags_.report(DiagId::EvaluatedAtTranslation, call.range,
+                  "function '" + fn_name + "' cannot be inlined (" + u.what +
+                      "); it is evaluated now with its arguments' parameter values, so changing those parameters "
+                      "later does not change its result");
+    return out;
   }
-  return out;
 }
 
 } // namespace mo::frontend::detail

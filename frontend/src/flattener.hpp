@@ -318,6 +318,11 @@ public:
   /// `v = e` in a when-clause with der(v) elsewhere becomes reinit(v, e) (flatten_free_inputs.cpp).
   void when_assignments_to_reinits();
   bool is_constant(const ast::Expr &flat_expr) const;
+  /// True if `flat_expr` reads only literals and parameters whose values the
+  /// flattening has already fixed (they sized an array, chose an if-equation's
+  /// branch, bounded a loop): deciding on it now changes nothing that a later
+  /// parameter value could still change, and cannot fail.
+  bool already_evaluated(const ast::Expr &flat_expr) const;
 };
 
 } // namespace detail

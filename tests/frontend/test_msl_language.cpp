@@ -6,6 +6,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <filesystem>
 
@@ -335,6 +336,90 @@ TEST_CASE("what cannot be inlined gets a diagnostic", "[msl][functions]") {
       Real z = h();
     end M;)"),
                  "input 'u' of function 'h' is missing and has no default"));
+}
+
+TEST_CASE("parameters that sized an array choose a function's branch", "[msl][functions]") {
+  // As the MSL's filter coefficients: the branches of the other orders index
+  // past this order's sizes.
+  const char *src = R"(
+    function coefficients
+      input Integer order;
+      output Real c[order];
+    algorithm
+      if order == 1 then
+        c[1] := 0.5;
+      elseif order == 2 then
+        c[1] := 2;
+        c[2] := 3;
+      end if;
+    end coefficients;
+    model Use
+      parameter Integer n = 1;
+      parameter Real c[n] = coefficients(n);
+      Real x(start = 1, fixed = true);
+    equation
+      der(x) = -c[1] * x;
+    end Use;)";
+  CHECK(value(src, "c[1]") == 0.5);
+}
+
+TEST_CASE("a function that cannot be inlined but has parameter arguments is evaluated, with a warning",
+          "[msl][functions]") {
+  // Bisection to a tolerance behind an error() guard, as the MSL's
+  // normalizationFactor: symbolically the guard's branch cannot be dropped.
+  const char *src = R"(
+    function root
+      input Real a;
+      output Real x;
+    protected
+      Real lo = 0;
+      Real hi = max(1, a);
+      Real mid;
+    algorithm
+      if a < 0 then
+        error("no real root");
+      end if;
+      while hi - lo > 1e-12 loop
+        mid := (lo + hi) / 2;
+        if mid * mid > a then
+          hi := mid;
+        else
+          lo := mid;
+        end if;
+      end while;
+      x := sqrt(lo) * sqrt(lo);
+    end root;
+    model Use
+      parameter Real a = 2;
+      parameter Real r = root(a);
+      Real z;
+    equation
+      z = r * time;
+    end Use;)";
+  Compiled c = compile_text(src);
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  CHECK(contains(c.diagnostics, "warning: function 'root' cannot be inlined"));
+  const auto i = c.model->find("r");
+  REQUIRE(i >= 0);
+  REQUIRE(c.model->variables[i].value);
+  CHECK(*c.model->variables[i].value == Approx(std::sqrt(2.0)).epsilon(1e-11));
+  // With a time-varying argument it stays an error.
+  Compiled varying = compile_text(R"(
+    function twice
+      input Real u;
+      output Real y;
+    algorithm
+      if u < 0 then
+        error("negative");
+      end if;
+      y := 2 * u;
+    end twice;
+    model M
+      Real z = twice(time);
+    end M;)");
+  CHECK_FALSE(varying.ok());
+  CHECK(contains(varying.diagnostics, "cannot inline function 'twice'"));
 }
 
 TEST_CASE("Modelica.Constants.pi with the MSL on the lookup path", "[msl][lookup]") {
