@@ -32,6 +32,15 @@ ValueKind value_kind(const Expr &e, const flat::Model &m) {
     }
     return ValueKind::Number;
   case ExprKind::If: return value_kind(*e.args[1], m);
+  case ExprKind::Call: {
+    // Built-ins whose value is that of their argument, or a Boolean/String.
+    const std::string n = e.var < 0 && e.ref.parts.size() == 1 ? e.ref.parts[0].name : "";
+    if ((n == "pre" || n == "noEvent" || n == "smooth") && !e.args.empty() && e.args.back())
+      return value_kind(*e.args.back(), m);
+    if (n == "edge" || n == "change" || n == "initial" || n == "terminal" || n == "sample")
+      return ValueKind::Boolean;
+    return n == "String" ? ValueKind::String : ValueKind::Number;
+  }
   default: return ValueKind::Number;
   }
 }

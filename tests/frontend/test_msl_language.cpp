@@ -422,6 +422,35 @@ TEST_CASE("a function that cannot be inlined but has parameter arguments is eval
   CHECK(contains(varying.diagnostics, "cannot inline function 'twice'"));
 }
 
+TEST_CASE("pre(), noEvent() and edge() have their argument's kind of value", "[msl][types]") {
+  // As the MSL's OnOffController: `initial equation pre(y) = pre_y_start;`.
+  const char *src = R"(
+    model OnOff
+      parameter Boolean y0 = false;
+      Boolean y;
+      Boolean rising;
+      Real u = sin(time);
+    initial equation
+      pre(y) = y0;
+    equation
+      y = pre(y) and u < 0.5 or u < -0.5;
+      rising = edge(y);
+    end OnOff;)";
+  Compiled c = compile_text(src);
+  INFO(c.diagnostics);
+  CHECK(c.ok());
+  CHECK_FALSE(contains(c.diagnostics, "equal to"));
+  Compiled wrong = compile_text(R"(
+    model M
+      Boolean b;
+      Real x;
+    equation
+      b = time > 1;
+      x = pre(b);
+    end M;)");
+  CHECK(contains(wrong.diagnostics, "this equation sets a number equal to a Boolean"));
+}
+
 TEST_CASE("Modelica.Constants.pi with the MSL on the lookup path", "[msl][lookup]") {
   const std::string shared = shared_dir();
   if (shared.empty()) {
