@@ -157,14 +157,24 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
     merge_into(base_mod, mod);
     instantiate_class(inst, base, base_mod, depth);
   }
-  // Components: those without array dimensions first, so that parameters
-  // used as sizes exist before the arrays that need them.
+  // Components: `inner` elements before the components whose `outer` ones
+  // refer to them; then those without array dimensions, so that parameters
+  // used as sizes exist before the arrays that need them; conditional
+  // components last, so that the parameters of their conditions exist with
+  // this instance's modifiers (the MSL's LimPID declares `with_D` after the
+  // `D ... if with_D` it switches).
   std::vector<const ast::Component *> order;
   for (const auto &c : def.components)
     order.push_back(&c);
-  std::stable_partition(order.begin(), order.end(), [](const ast::Component *c) { return c->dims.empty(); });
-  // `inner` elements before the components whose `outer` ones refer to them.
-  std::stable_partition(order.begin(), order.end(), [](const ast::Component *c) { return c->inner && !c->outer; });
+  const auto rank = [](const ast::Component *c) {
+    if (c->inner && !c->outer)
+      return 0;
+    if (c->condition)
+      return 3;
+    return c->dims.empty() ? 1 : 2;
+  };
+  std::stable_sort(order.begin(), order.end(),
+                   [&](const ast::Component *a, const ast::Component *b) { return rank(a) < rank(b); });
   for (const ast::Component *c : order) {
     if (c->redeclare) { // passed to the bases, which declare the element
       if (!inst.member_index.count(c->name))

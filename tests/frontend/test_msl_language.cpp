@@ -497,6 +497,28 @@ TEST_CASE("connections to a switched-off conditional component are removed", "[m
   CHECK_FALSE(contains(s, "g.p"));
 }
 
+TEST_CASE("a component's condition uses the instance's modified parameter, declared after it or not",
+          "[msl]") {
+  // As the MSL's LimPID: `D ... if with_D` above `parameter Boolean with_D = ...`.
+  const std::string s = flat(R"(
+    package P
+      type Kind = enumeration(PI, PID);
+      block Controller
+        parameter Kind kind = Kind.PID;
+        Real d = 1 if with_D;
+        Real zero = 0 if not with_D;
+      protected
+        parameter Boolean with_D = kind == Kind.PID;
+      end Controller;
+      model Top
+        Controller c(kind = Kind.PI);
+      end Top;
+    end P;)",
+                             "P.Top");
+  CHECK(contains(s, "c.zero"));
+  CHECK_FALSE(contains(s, "c.d`"));
+}
+
 TEST_CASE("tuple equations take the outputs of a function, size() of an unassigned output", "[msl][functions]") {
   const char *src = R"(
     function split
