@@ -175,10 +175,15 @@ void Flattener::flatten_equations(Instance &top) {
       }
     }
     for (auto &[eq, cls] : inst->initial_equations) {
+      std::vector<ast::Equation> produced;
       try {
-        equation(*eq, Scope{inst, cls, nullptr}, model_->initial_equations);
+        equation(*eq, Scope{inst, cls, nullptr}, produced);
       } catch (Reported &) {
       }
+      // Now, so that the next initial equations can evaluate these parameters.
+      bind_computed_parameters(produced);
+      for (auto &e : produced)
+        model_->initial_equations.push_back(std::move(e));
     }
   }
   if (top.cls->def->restriction == ast::Restriction::Optimization)

@@ -318,6 +318,10 @@ public:
   /// `v = e` in a when-clause with der(v) elsewhere becomes reinit(v, e) (flatten_free_inputs.cpp).
   void when_assignments_to_reinits();
   bool is_constant(const ast::Expr &flat_expr) const;
+  /// Moves each `p = e` of `produced` (initial equations) where p is a
+  /// parameter declared fixed = false without a value and e reads parameters
+  /// and constants only (not p) into p's binding (flatten_parameter_equations.cpp).
+  void bind_computed_parameters(std::vector<ast::Equation> &produced);
   /// True if `flat_expr` reads only literals and parameters whose values the
   /// flattening has already fixed (they sized an array, chose an if-equation's
   /// branch, bounded a loop): deciding on it now changes nothing that a later

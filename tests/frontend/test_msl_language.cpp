@@ -519,6 +519,58 @@ TEST_CASE("a component's condition uses the instance's modified parameter, decla
   CHECK_FALSE(contains(s, "c.d`"));
 }
 
+TEST_CASE("a fixed = false parameter given explicitly by an initial equation gets it as binding",
+          "[msl][initial]") {
+  // As the MSL's filters: coefficients from tuple equations of functions of
+  // the order, then from functions of those coefficients.
+  const char *src = R"(
+    function prototype
+      input Integer order;
+      output Real c[order];
+    algorithm
+      for i in 1:order loop
+        c[i] := i / 2;
+      end for;
+    end prototype;
+    function scaled
+      input Real c[:];
+      input Real f;
+      output Real a[size(c, 1)];
+      output Real total;
+    algorithm
+      total := 0;
+      for i in 1:size(c, 1) loop
+        a[i] := c[i] * f;
+        total := total + a[i];
+      end for;
+    end scaled;
+    model Coefficients
+      parameter Integer n = 2;
+      parameter Real f = 3;
+      parameter Real c[n](each fixed = false);
+      parameter Real a[n](each fixed = false);
+      parameter Real total(fixed = false);
+      parameter Real implicit(fixed = false, start = 1);
+      Real x(start = 1, fixed = true);
+    initial equation
+      c = prototype(n);
+      (a, total) = scaled(c, f);
+      implicit * implicit = f;
+    equation
+      der(x) = -total * x;
+    end Coefficients;)";
+  Compiled c = compile_text(src);
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string s = c.model->print();
+  CHECK(contains(s, "parameter Real `a[2]` ="));
+  CHECK(contains(s, "parameter Real total ="));
+  // Implicit in the parameter: stays an initial equation.
+  CHECK(contains(s, "implicit * implicit = f"));
+  CHECK(value(src, "total") == Approx(4.5));
+  CHECK(value(src, "a[2]") == Approx(3));
+}
+
 TEST_CASE("tuple equations take the outputs of a function, size() of an unassigned output", "[msl][functions]") {
   const char *src = R"(
     function split
