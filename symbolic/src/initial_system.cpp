@@ -10,6 +10,7 @@
 #include "mo/symbolic/substitute.hpp"
 #include "mo/symbolic/traversal.hpp"
 #include "solve.hpp"
+#include "tearing.hpp"
 #include "tiered_matching.hpp"
 
 namespace mo::symbolic::detail {
@@ -194,18 +195,36 @@ private:
   /// Solves one BLT block over the original symbols, then expresses it in
   /// the values found so far: a closed form, or a step over fresh symbols.
   void block(const std::vector<int>& blk, const std::vector<int>& kept, const Matching& m) {
-    std::vector<Expr> residuals, unknowns;
-    std::vector<double> start;
-    std::vector<std::string> origins;
+    BlockEquations eqs;
     for (int i : blk) {
       const Row& r = rows_[static_cast<std::size_t>(kept[static_cast<std::size_t>(i)])];
-      residuals.push_back(r.residual);
-      origins.push_back(r.origin);
+      eqs.residuals.push_back(r.residual);
+      eqs.origins.push_back(r.origin);
       const auto j = static_cast<std::size_t>(m.unknown_of[static_cast<std::size_t>(i)]);
-      unknowns.push_back(unknowns_[j]);
-      start.push_back(guess_[j]);
+      eqs.unknowns.push_back(unknowns_[j]);
+      eqs.start.push_back(guess_[j]);
     }
-    Step step = solve_block(a_, residuals, unknowns, start);
+    std::vector<Step> steps = solve_block_torn(a_, eqs, at_start(), in_.tearing);
+    for (Step& step : steps) add(step);
+  }
+
+  /// Every unknown at its guess, parameters at their values, t = 0, u = 0.
+  const LeafValues& at_start() {
+    if (!at_start_.empty()) return at_start_;
+    for (std::size_t j = 0; j < unknowns_.size(); ++j) at_start_[unknowns_[j]] = guess_[j];
+    for (const OdeParameter& p : m_.parameters) at_start_[p.symbol] = p.value;
+    for (const OdeInput& u : m_.inputs) at_start_[u.symbol] = 0.0;
+    for (const OdeDiscrete& d : m_.discrete) {
+      at_start_[d.symbol] = d.start;
+      at_start_[a_.pre(d.symbol)] = d.start;
+    }
+    at_start_[m_.time] = 0.0;
+    return at_start_;
+  }
+
+  /// Expresses one step of a block in the values found so far: a closed
+  /// form, or a step over fresh symbols.
+  void add(Step& step) {
     if (auto* as = std::get_if<Assignment>(&step)) {
       values_[as->target] = substitute(a_, as->value, values_);
       return;
@@ -229,7 +248,6 @@ private:
     for (Expr& o : b.offset) targets.push_back(&o);
     for (BlockEntry& e : b.jacobian) targets.push_back(&e.value);
     substitute_in_place(a_, targets, renamed);
-    b.origins = std::move(origins);
     m_.initial_steps.push_back(std::move(step));
   }
 
@@ -242,6 +260,7 @@ private:
   std::unordered_map<Expr, int, ExprHash> local_;
   std::vector<Row> rows_;
   ExprMap values_;  ///< unknown → its value (closed form or a fresh block symbol)
+  LeafValues at_start_;  ///< tearing's start point, made on first use
   std::unordered_map<Expr, const VariableInfo*, ExprHash> info_ = [this] {
     std::unordered_map<Expr, const VariableInfo*, ExprHash> out;
     for (const OdeAlgebraic& y : m_.algebraics) out.emplace(y.symbol, &y.info);

@@ -44,6 +44,8 @@ struct InitialInput {
   std::vector<std::pair<Expr, Expr>> fixed_algebraics;
   /// First Newton guess of an unknown (state, algebraic); 0 when absent.
   std::unordered_map<Expr, double, ExprHash> guess;
+  /// Tear the nonlinear blocks (LowerOptions::tearing).
+  bool tearing = true;
 };
 
 /// Replaces the states' start expressions by the solution of the initial

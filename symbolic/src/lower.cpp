@@ -14,6 +14,7 @@
 #include "mo/symbolic/structure.hpp"
 #include "mo/symbolic/substitute.hpp"
 #include "solve.hpp"
+#include "tearing.hpp"
 
 namespace mo::symbolic {
 
@@ -89,8 +90,9 @@ std::vector<double> start_values(const Dae& dae) {
 class Assembler {
 public:
   Assembler(Dae& dae, const std::vector<bool>& state, const System& sys, const Matching& m,
-            frontend::DiagnosticEngine& diags)
-      : dae_(dae), state_(state), sys_(sys), m_(m), diags_(diags), sources_(diags.sources()) {}
+            frontend::DiagnosticEngine& diags, bool tear)
+      : dae_(dae), state_(state), sys_(sys), m_(m), diags_(diags), sources_(diags.sources()),
+        tear_(tear) {}
 
   OdeModel run(const std::vector<std::vector<int>>& blocks) {
     OdeModel out;
@@ -101,6 +103,7 @@ public:
     for (int e : sys_.eqs) residuals.push_back(&dae_.eqs[at(e)].residual);
     substitute_in_place(a(), residuals, map_);
     start_values_ = start_values(dae_);
+    at_start_ = values_at_start(out);
     for (const auto& blk : blocks) block(out, blk);
     finish(out);
     InitialInput init = initial_input();
@@ -157,24 +160,37 @@ private:
       out.eliminated.push_back({dv.info, out.states[i].derivative});
   }
 
+  /// Every final symbol at its start value (parameters at their values,
+  /// time and inputs 0): where tearing tests its choice (tearing.hpp).
+  LeafValues values_at_start(const OdeModel& out) {
+    LeafValues env;
+    for (std::size_t v = 0; v < dae_.vars.size(); ++v)
+      if (const auto it = map_.find(dae_.vars[v].symbol); it != map_.end() && a().is_leaf(it->second))
+        env[it->second] = start_values_[v];
+    for (const OdeParameter& p : dae_.parameters) env[p.symbol] = p.value;
+    for (const OdeInput& u : dae_.inputs) env[u.symbol] = 0.0;
+    for (const OdeDiscrete& d : dae_.discrete) {
+      env[d.symbol] = d.start;
+      env[a().pre(d.symbol)] = d.start;
+    }
+    env[out.time] = 0.0;
+    return env;
+  }
+
   void block(OdeModel& out, const std::vector<int>& blk) {
-    std::vector<Expr> residuals, unknowns;
-    std::vector<double> start;
+    BlockEquations eqs;
     for (int i : blk) {
-      residuals.push_back(dae_.eqs[at(sys_.eqs[at(i)])].residual);
+      const DaeEq& e = dae_.eqs[at(sys_.eqs[at(i)])];
+      eqs.residuals.push_back(e.residual);
+      eqs.origins.push_back(origin(e.range));
       const int var = sys_.unknowns[at(m_.unknown_of[at(i)])];
-      unknowns.push_back(map_.at(dae_.vars[at(var)].symbol));
-      start.push_back(start_values_[at(var)]);
+      eqs.unknowns.push_back(map_.at(dae_.vars[at(var)].symbol));
+      eqs.start.push_back(start_values_[at(var)]);
     }
-    Step step = solve_block(a(), residuals, unknowns, start);
-    if (const auto* b = std::get_if<EquationBlock>(&step); b && b->linear && constant_singular(*b))
+    std::vector<Step> steps = solve_block_torn(a(), eqs, at_start_, tear_);
+    if (const auto* b = std::get_if<EquationBlock>(&steps.front()); b && b->linear && constant_singular(*b))
       report_singular_block(blk);
-    if (auto* as = std::get_if<Assignment>(&step)) {
-      as->origin = origin(dae_.eqs[at(sys_.eqs[at(blk.front())])].range);
-    } else {
-      for (int i : blk) std::get<EquationBlock>(step).origins.push_back(origin(dae_.eqs[at(sys_.eqs[at(i)])].range));
-    }
-    out.steps.push_back(std::move(step));
+    for (Step& s : steps) out.steps.push_back(std::move(s));
   }
 
   /// True if every coefficient of the linear block is a constant and the
@@ -260,6 +276,7 @@ private:
   /// the final symbols (initial_system.hpp).
   InitialInput initial_input() {
     InitialInput in;
+    in.tearing = tear_;
     std::vector<Expr*> targets;
     for (DaeEq& e : dae_.initial_eqs) targets.push_back(&e.residual);
     substitute_in_place(a(), targets, map_);
@@ -283,8 +300,10 @@ private:
   std::unordered_map<std::size_t, std::size_t> state_of_;  ///< DaeVar → state index
   std::vector<int> state_vars_;  ///< state index → DaeVar
   std::vector<double> start_values_;  ///< per DaeVar
+  LeafValues at_start_;  ///< final symbols at their start values
   frontend::DiagnosticEngine& diags_;
   const frontend::SourceManager& sources_;
+  bool tear_;  ///< tear nonlinear blocks (LowerOptions::tearing)
 };
 
 /// Expression text with the internal name marker removed (for traces).
@@ -364,7 +383,7 @@ std::optional<OdeModel> lower(const frontend::flat::Model& flat,
   if (options.trace) trace_blt(*dae, sys, m, blocks, *options.trace);
   if (stats) *stats = st;
   const unsigned errors = diags.error_count();
-  OdeModel out = Assembler(*dae, state, sys, m, diags).run(blocks);
+  OdeModel out = Assembler(*dae, state, sys, m, diags, options.tearing).run(blocks);
   if (diags.error_count() > errors) return std::nullopt;
   return out;
 }

@@ -23,7 +23,7 @@ TEST_CASE("every Xcos corpus diagram matches Scilab", "[xcos][corpus]") {
   // Known failures, each explained in docs/xcos-dialect.md ("Why the others
   // fail"). A listed diagram that starts passing fails this test too, so the
   // list only shrinks.
-  const std::set<std::string> known_failures{"Clutch", "ControlledTemperature", "HeatingRectifier"};
+  const std::set<std::string> known_failures{"Clutch", "ControlledTemperature"};
   for (const auto& name : diagrams(*corpus)) {
     const DiagramResult r = check_diagram(*corpus, name, libs);
     INFO(table_row(r));

@@ -22,6 +22,10 @@ struct LowerOptions {
   /// equations; states and dummy derivatives), "== blt ==" (each block with
   /// the unknowns it is matched to and its residuals), in evaluation order.
   std::string* trace = nullptr;
+  /// Tear nonlinear blocks of two or more equations (docs/architecture.md,
+  /// "Tearing"): Newton on a few tearing variables, the other unknowns
+  /// computed from them explicitly. Off: Newton on the whole block.
+  bool tearing = true;
 };
 
 /// Counts of what lowering did (for logs, benchmarks and tests).

@@ -1,0 +1,180 @@
+// Tearing of nonlinear blocks (symbolic/src/tearing.hpp), from .mo text: a
+// diode whose thermal voltage depends on its own temperature (data/tearing/).
+// Whole, its block cannot start from zero guesses; torn, it runs, and it
+// equals the whole block started from good guesses; generated code equals
+// the interpreter; Jacobians and sensitivities equal finite differences.
+#include <random>
+
+#include "codegen/jacobian_check.hpp"
+#include "e2e/support.hpp"
+#include "mo/runtime/simulate.hpp"
+#include "mo/symbolic/lower.hpp"
+#include "mo/symbolic/ode_interpreter.hpp"
+
+using namespace mo;
+using namespace mo::e2e;
+
+namespace {
+
+const std::string kTearing = kData + "tearing/";
+
+tools::ModelSource diode() { return {kTearing + "DiodeThermalLoop.mo", "", {}, true}; }
+tools::ModelSource diode_started() {
+  return {kTearing + "DiodeThermalLoopStarted.mo", "", {kTearing + "DiodeThermalLoop.mo"}, true};
+}
+
+symbolic::OdeModel lower_source(const tools::ModelSource& source, bool tearing) {
+  frontend::SourceManager sources;
+  frontend::DiagnosticEngine diags(sources);
+  std::ostringstream printed;
+  auto flat = tools::load_flat_model(source, sources, diags);
+  std::optional<symbolic::OdeModel> ode;
+  symbolic::LowerOptions options;
+  options.tearing = tearing;
+  if (flat) ode = symbolic::lower(*flat, diags, options);
+  diags.print(printed);
+  INFO(printed.str());
+  REQUIRE(ode);
+  return std::move(*ode);
+}
+
+/// Sizes of the nonlinear blocks and the number of assignments.
+struct Shape {
+  std::vector<std::size_t> nonlinear;
+  std::size_t assignments = 0;
+};
+
+Shape shape(const symbolic::OdeModel& m) {
+  Shape s;
+  for (const auto& step : m.steps) {
+    if (std::holds_alternative<symbolic::Assignment>(step)) ++s.assignments;
+    else if (!std::get<symbolic::EquationBlock>(step).linear)
+      s.nonlinear.push_back(std::get<symbolic::EquationBlock>(step).unknowns.size());
+  }
+  return s;
+}
+
+runtime::SimulationOptions tight() {
+  runtime::SimulationOptions o;
+  o.relative_tolerance = 1e-10;
+  o.absolute_tolerance = 1e-12;
+  return o;
+}
+
+const runtime::OutputGrid& grid() {
+  static const runtime::OutputGrid g = runtime::OutputGrid::uniform(0, 3, 60);
+  return g;
+}
+
+}  // namespace
+
+TEST_CASE("tearing: the diode's block of six keeps one iteration variable", "[e2e][tearing]") {
+  const Shape whole = shape(lower_source(diode(), false));
+  REQUIRE(whole.nonlinear.size() == 1);
+  CHECK(whole.nonlinear[0] >= 5);  // i v vt Td dT (and Q unless an alias)
+  const Shape torn = shape(lower_source(diode(), true));
+  CHECK(torn.nonlinear == std::vector<std::size_t>{1});
+  CHECK(torn.assignments == whole.assignments + whole.nonlinear[0] - 1);
+}
+
+TEST_CASE("tearing: the whole block fails at t = 0 from zero guesses, the torn one runs", "[e2e][tearing]") {
+  auto whole = codegen::test::compiled("e2e_tearing_whole", [] { return lower_source(diode(), false); });
+  auto torn = codegen::test::compiled("e2e_tearing_torn", [] { return lower_source(diode(), true); });
+  const auto p = torn->info().default_parameters();
+  const auto failed = runtime::simulate(*whole, runtime::Inputs{}, p, grid(), tight());
+  CHECK_FALSE(failed.ok());
+  CHECK(whole->last_failure().find("not finite at the start guess") != std::string::npos);
+  const auto r = runtime::simulate(*torn, runtime::Inputs{}, p, grid(), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+
+  // The whole block, started from a thermal voltage of 25 mV, is the reference.
+  auto started = codegen::test::compiled("e2e_tearing_started", [] { return lower_source(diode_started(), false); });
+  const auto ref = runtime::simulate(*started, runtime::Inputs{}, started->info().default_parameters(), grid(), tight());
+  INFO(ref.message);
+  REQUIRE(ref.ok());
+  for (const char* name : {"Tc", "Td", "i"}) {
+    const auto a = column(r.trajectory, name), b = column(ref.trajectory, name);
+    double scale = 0;
+    for (double v : b) scale = std::max(scale, std::fabs(v));
+    INFO(name);
+    CHECK(max_abs_difference(a, b) < 1e-8 * scale);
+  }
+  // Not a trivial trajectory: the diode conducts and heats up.
+  const auto i = column(r.trajectory, "i");
+  CHECK(*std::max_element(i.begin(), i.end()) > 0.1);
+  const auto td = column(r.trajectory, "Td"), tc = column(r.trajectory, "Tc");
+  CHECK(max_abs_difference(td, tc) > 0.5);
+}
+
+TEST_CASE("tearing: generated code equals the interpreter; Jacobians equal differences", "[e2e][tearing]") {
+  const symbolic::OdeModel m = lower_source(diode(), true);
+  symbolic::OdeInterpreter interpreter(m);
+  auto torn = codegen::test::compiled("e2e_tearing_torn", [] { return lower_source(diode(), true); });
+  std::mt19937 rng(10);
+  std::uniform_real_distribution<double> t(0, 1), temperature(280, 330);
+  const auto p = torn->info().default_parameters();
+  for (int k = 0; k < 8; ++k) {
+    const double tk = t(rng);
+    const std::vector<double> x{temperature(rng)};
+    std::vector<double> xdot(1), y(torn->info().outputs.size());
+    torn->rhs(tk, x, {}, p, xdot);
+    torn->outputs(tk, x, {}, p, y);
+    const auto xdot_ref = interpreter.rhs(tk, x, {}, p);
+    const auto y_ref = interpreter.outputs(tk, x, {}, p);
+    CHECK(xdot[0] == Approx(xdot_ref[0]).epsilon(1e-9).margin(1e-12));
+    for (std::size_t j = 0; j < y.size(); ++j) CHECK(y[j] == Approx(y_ref[j]).epsilon(1e-9).margin(1e-12));
+    codegen::test::check_jacobians(*torn, tk, x, {}, p, 1e-5);
+  }
+}
+
+TEST_CASE("tearing: sensitivities through the torn block equal finite differences", "[e2e][tearing]") {
+  const std::vector<std::string> names{"G", "R", "n"};
+  auto plain = compiled_model("e2e_tearing_plain", {diode(), {}});
+  auto augmented = compiled_model("e2e_tearing_sens", {diode(), names});
+  const auto& info = augmented->info();
+  REQUIRE(info.num_base_states() == 1);
+  runtime::SimulationOptions o = tight();
+  o.sensitivities.method = runtime::SensitivityMethod::model_states;
+  const auto s = runtime::simulate(*augmented, runtime::Inputs{}, info.default_parameters(), grid(), o);
+  INFO(s.message);
+  REQUIRE(s.ok());
+  const auto p = plain->info().default_parameters();
+  auto fd_options = tight();
+  fd_options.relative_tolerance = 1e-12;
+  fd_options.absolute_tolerance = 1e-12;
+  // Central differences at steps 2h and h, Richardson-extrapolated: O(h^4).
+  auto central = [&](std::size_t k, double h, const char* name) {
+    auto q = p;
+    q[k] = p[k] + h;
+    const auto plus = runtime::simulate(*plain, runtime::Inputs{}, q, grid(), fd_options);
+    q[k] = p[k] - h;
+    const auto minus = runtime::simulate(*plain, runtime::Inputs{}, q, grid(), fd_options);
+    REQUIRE(plus.ok());
+    REQUIRE(minus.ok());
+    const auto a = column(plus.trajectory, name), b = column(minus.trajectory, name);
+    std::vector<double> d(a.size());
+    for (std::size_t r = 0; r < a.size(); ++r) d[r] = (a[r] - b[r]) / (2 * h);
+    return d;
+  };
+  for (std::size_t j = 0; j < names.size(); ++j) {
+    const std::size_t k = parameter(plain->info(), names[j]);
+    const double h = 2e-2 * std::fabs(p[k]);  // truncation (h/p)^4, integration noise / h: both ~1e-6
+    for (const char* name : {"Tc", "Td"}) {
+      const auto d1 = central(k, h, name), d2 = central(k, 2 * h, name);
+      const auto mine = column(s.trajectory, "d(" + std::string(name) + ")/d(" + names[j] + ")");
+      double worst = 0, scale = 0;
+      for (std::size_t r = 1; r < grid().times.size(); ++r) {
+        const double fd = (4 * d1[r] - d2[r]) / 3;
+        worst = std::max(worst, std::fabs(mine[r] - fd));
+        scale = std::max(scale, std::fabs(fd));
+      }
+      INFO("d(" << name << ")/d(" << names[j] << "): max error " << worst << " of " << scale);
+      CHECK(scale > 1e-4);
+      // The differences carry the Newton and integrator noise of the runs (about
+      // 2e-4 of the case temperature's sensitivity); a sensitivity that missed
+      // the torn chain would be off by its whole size.
+      CHECK(worst < 1e-3 * scale);
+    }
+  }
+}
