@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 
 #include "mo/runtime/simulate.hpp"
@@ -195,6 +196,12 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
                               runtime::OptimizationResult& R, const std::vector<double>& switches, double min_gap) {
   EventCheck c;
   const runtime::ModelInfo& info = model.info();
+  if (R.element_times.size() < 2 ||
+      std::adjacent_find(R.element_times.begin(), R.element_times.end(), std::greater_equal<>()) != R.element_times.end()) {
+    c.failure = "the solution's phases do not follow each other in time (a switching time out of order)";
+    R.check.message = c.failure;
+    return c;
+  }
   const runtime::Inputs inputs = runtime::optimal_inputs(Pphys, R, info.inputs.size());
   ModeRecording rec = record_modes(model, ode, rel, inputs, R.parameters, Pphys.t0, Pphys.tf, 10 * kMaxSwitches, 0.0);
   if (!rec.sequence) {
@@ -269,7 +276,7 @@ nlohmann::json sequence_json(const symbolic::OdeModel& ode, const ModeSequence& 
 
 int refuse_phases(const frontend::flat::Model& flat, const PhaseRefusal& r, frontend::DiagnosticEngine& diags) {
   diags.report(frontend::DiagId::BadOptimization, event_source(flat, r.when),
-               r.message + "; optimal control on this model is refused (docs/events.md)");
+               r.message + "; the multi-phase collocation of studies on models with events refuses it (docs/events.md)");
   diags.print(std::cerr);
   return 1;
 }

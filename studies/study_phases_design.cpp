@@ -164,7 +164,7 @@ int design_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOp
     result.information_collocation = r.information_collocation;
     result.information_resimulated = std::nan("");
     result.fisher_resimulated.resize(0, 0);
-    if (R.parameters.size() == info.parameters.size() && !R.element_times.empty()) {
+    if (R.parameters.size() == info.parameters.size() && check.modes) {  // check.modes: the phases ascend
       try {
         result.fisher_resimulated = runtime::fisher_information(
             *s.built.model, runtime::optimal_inputs(Pphys, R, info.inputs.size()), R.parameters, P.t0, m, J);
@@ -183,7 +183,7 @@ int design_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOp
     }
     if ((status != "mode_sequence_changed" && status != "switch_at_sample_time") || attempt == kMaxAttempts) break;
     if (R.parameters.size() == info.parameters.size()) guess.parameters = R.parameters;
-    for (std::size_t c = 0; c < P.controls.size() && !R.element_times.empty(); ++c) {
+    for (std::size_t c = 0; c < P.controls.size() && check.modes; ++c) {
       std::vector<double> starts(R.element_times.begin(), R.element_times.end() - 1);
       guess.controls[c] = runtime::piecewise_constant_input(starts, R.control_values[c]);
     }
