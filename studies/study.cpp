@@ -393,8 +393,7 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
   {
     PhaseScope phase(cli.run, "lower", flat.name);
     if (parsed.errors.empty() && parsed.ok && problem) ode = lower_model(flat, diags);
-    phased = ode && (parsed.options.task == "optimal_control" || parsed.options.task == "estimation") &&
-             has_events(*ode);
+    phased = ode && has_events(*ode);
     if (ode && !phased && reject_events_in_study(flat, *ode, diags)) ode.reset();
     diags.print(std::cerr);  // once: warnings, or the errors that stop here
     if (!parsed.errors.empty()) return 2;
@@ -409,8 +408,13 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
   if (phased) {
     fs::create_directories(cli.output);
     const bool estimation = parsed.options.task == "estimation";
+    const std::string task = parsed.options.task;
+    const bool design = task == "design", monte = task == "monte_carlo";
+    if (!mpi_world().root() && !monte) return 0;  // rank 0 solves it
     const int status =
         estimation ? estimation_with_events(flat, cli, std::move(parsed.options), std::move(*problem), *ode, diags)
+        : design   ? design_with_events(flat, cli, std::move(parsed.options), std::move(*problem), *ode, diags)
+        : monte    ? monte_carlo_with_events(flat, cli, std::move(parsed.options), std::move(*problem), *ode, diags)
                    : optimal_control_with_events(flat, cli, std::move(parsed.options), std::move(*problem), *ode, diags);
     if (cli.run) record_timings(cli.output, cli.run->timings);
     return status;

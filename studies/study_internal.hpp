@@ -1,6 +1,7 @@
 // Internals shared by the study tasks (study.cpp, study_monte_carlo.cpp).
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,8 @@ struct Study {
   StudyOptions opt;
   ProblemOutputs problem;
   BuiltModel built;
+  /// Estimates for monte_carlo; empty: runtime::estimate_parameters on `built` (a model with events sets it).
+  std::function<runtime::EstimationResult(const runtime::EstimationProblem&)> estimate{};
   [[nodiscard]] const runtime::ModelInfo& info() const { return built.model->info(); }
 };
 

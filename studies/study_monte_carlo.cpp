@@ -119,7 +119,7 @@ json monte_carlo_run(Study& s, const std::vector<runtime::FreeParameter>& free,
   e.solver.progress = isolated ? nullptr : solver_progress(s.cli.run);
   e.confidence = s.opt.confidence;
   started = std::chrono::steady_clock::now();
-  const auto r = runtime::estimate_parameters(*s.built.model, e);
+  const auto r = s.estimate ? s.estimate(e) : runtime::estimate_parameters(*s.built.model, e);
   solve_seconds += seconds_since(started);
   for (const auto& x : r.experiments) solve_seconds -= x.timings.resimulation, simulate_seconds += x.timings.resimulation;
   const bool ok = (r.status == runtime::OptimizationStatus::success ||

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iostream>
 
 #include "mo/runtime/simulate.hpp"
@@ -17,16 +18,6 @@
 namespace mo::tools {
 
 using namespace detail;
-
-namespace {
-
-constexpr std::size_t kMaxSwitches = 20;  ///< more switches in one simulation: chattering or Zeno
-constexpr int kMaxAttempts = 3;           ///< solves with an updated mode sequence
-/// The re-simulation must agree with the collocation to this fraction of each
-/// state's scale (its largest |x| on the trajectory, at least its nominal).
-constexpr double kStateTolerance = 1e-3;
-/// A re-simulated switch must lie this fraction of the horizon from the collocation's.
-constexpr double kTimeTolerance = 1e-3;
 
 Guess initial_guess(const runtime::OptimalControlProblem& P) {
   Guess g;
@@ -51,12 +42,10 @@ runtime::Inputs guess_inputs(const Guess& g, const runtime::OptimalControlProble
   return runtime::Inputs(std::move(signals));
 }
 
-}  // namespace
-
 /// The multi-phase problem on s ∈ [0, 1] for the stacked model.
 runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProblem& P, const PhasedModel& pm,
                                               const ModeSequence& seq, const Guess& g,
-                                              const runtime::ModelInfo& base, double min_gap) {
+                                              const runtime::ModelInfo& base, double min_gap, bool keep_signs) {
   const std::size_t K = pm.phases;
   std::vector<double> guess_times{P.t0};
   for (const auto& b : pm.layout.boundaries) guess_times.push_back(b.time);
@@ -75,9 +64,8 @@ runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProbl
   for (const auto& [input, signal] : P.fixed_inputs)
     for (std::size_t k = 0; k < K; ++k)
       Q.fixed_inputs[pm.input(k, input)] = phase_time_signal(signal, guess_times[k], guess_times[k + 1]);
-  Q.parameters = g.parameters;
-  for (const auto& sw : seq.switches) Q.parameters.push_back(sw.time);
-  for (const auto& b : pm.layout.boundaries) Q.parameters.insert(Q.parameters.end(), b.states_after.begin(), b.states_after.end());
+  for (const auto& p : pm.ode.parameters) Q.parameters.push_back(p.value);  // τ_k, φ, q^k guessed
+  std::copy(g.parameters.begin(), g.parameters.end(), Q.parameters.begin());
   for (auto fp : P.free_parameters) {
     fp.initial_guess = g.parameters[fp.parameter];
     Q.free_parameters.push_back(fp);
@@ -88,6 +76,9 @@ runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProbl
     for (std::size_t i = 0; i < pm.nx; ++i)
       Q.free_parameters.push_back({pm.phase_start[k] + i, {base.states[i].min, base.states[i].max},
                                    pm.layout.boundaries[k].states_after[i]});
+  const std::size_t nb = base.num_base_states();
+  for (std::size_t k = 0; k < pm.fplus_parameter.size(); ++k)
+    for (std::size_t i = 0; i < nb; ++i) Q.free_parameters.push_back({pm.fplus_parameter[k] + i, {}, 0.0});
   for (const auto& [i, b] : P.state_bounds)
     for (std::size_t k = 0; k < K; ++k) Q.state_bounds[pm.state(k, i)] = b;
   for (const auto& m : P.mayer) Q.mayer.push_back({pm.output(K - 1, m.output), m.weight});
@@ -112,6 +103,18 @@ runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProbl
   for (std::size_t k = 0; k + 1 < K; ++k)
     for (std::size_t i = 0; i < pm.nx; ++i) Q.point_constraints.push_back({pm.jump_output[k] + i, 1.0, {0.0, 0.0}});
   for (std::size_t o : pm.length_output) Q.path_constraints.push_back({o, {min_gap, runtime::Bounds{}.hi}});
+  for (std::size_t k = 0; k < pm.fplus_output.size(); ++k) {  // φ = der(x) at the start of the next phase
+    for (std::size_t i = 0; i < nb; ++i) Q.point_constraints.push_back({pm.fplus_output[k] + i, 0.0, {0.0, 0.0}});
+  }
+  for (std::size_t k = 0; k < pm.input_parameter.size(); ++k)  // the input continuous at a switch
+    for (std::size_t j = 0; j < pm.nu; ++j) {
+      Q.free_parameters.push_back({pm.input_parameter[k] + j, {}, 0.0});
+      Q.point_constraints.push_back({pm.input_before_output[k] + j, 1.0, {0.0, 0.0}});
+      const bool control = std::any_of(P.controls.begin(), P.controls.end(), [&](const runtime::FreeControl& c) { return c.input == j; });
+      if (control) Q.point_constraints.push_back({pm.input_after_output[k] + j, 0.0, {0.0, 0.0}});
+    }
+  if (keep_signs)
+    for (std::size_t o : pm.sign_output) Q.path_constraints.push_back({o, {0.0, runtime::Bounds{}.hi}});
   Q.collocation = P.collocation;
   Q.solver = P.solver;
   return Q;
@@ -193,6 +196,12 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
                               runtime::OptimizationResult& R, const std::vector<double>& switches, double min_gap) {
   EventCheck c;
   const runtime::ModelInfo& info = model.info();
+  if (R.element_times.size() < 2 ||
+      std::adjacent_find(R.element_times.begin(), R.element_times.end(), std::greater_equal<>()) != R.element_times.end()) {
+    c.failure = "the solution's phases do not follow each other in time (a switching time out of order)";
+    R.check.message = c.failure;
+    return c;
+  }
   const runtime::Inputs inputs = runtime::optimal_inputs(Pphys, R, info.inputs.size());
   ModeRecording rec = record_modes(model, ode, rel, inputs, R.parameters, Pphys.t0, Pphys.tf, 10 * kMaxSwitches, 0.0);
   if (!rec.sequence) {
@@ -208,6 +217,8 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
   runtime::SimulationOptions so;
   so.relative_tolerance = 1e-10;
   so.absolute_tolerance = 1e-10;
+  if (info.num_base_states() < info.states.size())  // sensitivity states: with their jumps at the events
+    so.sensitivities.method = runtime::SensitivityMethod::model_states;
   auto sim_model = model.clone();
   const auto sim = runtime::simulate(*sim_model, inputs, R.parameters, runtime::OutputGrid::at(R.trajectories.times()), so);
   R.check.performed = sim.ok();
@@ -265,7 +276,7 @@ nlohmann::json sequence_json(const symbolic::OdeModel& ode, const ModeSequence& 
 
 int refuse_phases(const frontend::flat::Model& flat, const PhaseRefusal& r, frontend::DiagnosticEngine& diags) {
   diags.report(frontend::DiagId::BadOptimization, event_source(flat, r.when),
-               r.message + "; optimal control on this model is refused (docs/events.md)");
+               r.message + "; the multi-phase collocation of studies on models with events refuses it (docs/events.md)");
   diags.print(std::cerr);
   return 1;
 }

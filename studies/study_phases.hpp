@@ -16,12 +16,15 @@
 //   τ_k − τ_{k−1} ≥ ε,  τ_k free in [t0, tf].
 #pragma once
 
+#include <nlohmann/json.hpp>
+
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "mo/frontend/diagnostics.hpp"
 #include "mo/frontend/flat.hpp"
+#include "mo/runtime/estimate.hpp"
 #include "mo/runtime/input.hpp"
 #include "mo/runtime/model.hpp"
 #include "mo/symbolic/ode.hpp"
@@ -131,6 +134,18 @@ struct PhasedModel {
   std::vector<std::size_t> jump_output;        ///< first of nx output indices, per boundary
   std::vector<std::size_t> length_output;      ///< output index of τ_k − τ_{k−1}, per phase
   std::optional<std::size_t> lagrange_output;  ///< Σ_k (τ_k − τ_{k−1})·L^k
+  /// With sensitivity states: per switch, the first of nb parameters φ = f⁺
+  /// (the base states' derivatives just after it) and the first of nb outputs
+  /// der(x^{k+1}) − φ, zero at s = 0 of the next phase (docs/events.md).
+  std::vector<std::size_t> fplus_parameter, fplus_output;
+  /// With sensitivity states: per switch, the first of nu parameters ψ and of
+  /// nu outputs u^k − ψ (zero at s = 1) and u^{k+1} − ψ (zero at s = 0): the
+  /// input is continuous at a switch, so that the jump's f⁻ and f⁺ see the
+  /// same input and the sensitivities hold for the input on physical time.
+  std::vector<std::size_t> input_parameter, input_before_output, input_after_output;
+  /// Per phase and indicator of the equations with a sign in that mode: the
+  /// output sign·g, ≥ 0 keeps the phase in its mode (used by design).
+  std::vector<std::size_t> sign_output;
   /// Index of phase k's copy of base state i / input j / output o.
   [[nodiscard]] std::size_t state(std::size_t k, std::size_t i) const { return k * nx + i; }
   [[nodiscard]] std::size_t input(std::size_t k, std::size_t j) const { return k * nu + j; }
@@ -159,5 +174,34 @@ int optimal_control_with_events(frontend::flat::Model& flat, const StudyCli& cli
 /// sensitivities through the events. Returns the exit status.
 int estimation_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt,
                            ProblemOutputs problem, symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags);
+
+/// A multi-phase estimation (without writing anything): the estimate with
+/// its statistics (CVODES sensitivities through the events), `status` and
+/// `events` as summary.json has them, or a refusal or an error.
+struct PhasedEstimate {
+  runtime::EstimationResult result;  ///< status not success/acceptable if the events check failed
+  std::string status;
+  nlohmann::json events;
+  std::optional<PhaseRefusal> refusal;
+  std::string error;
+};
+
+/// Estimates e's free parameters from its one experiment (no inputs) on the
+/// model `model` compiled from `ode`, by the multi-phase collocation.
+PhasedEstimate phased_estimate(const runtime::Model& model, symbolic::OdeModel& ode, const RelationMap& rel,
+                               const runtime::EstimationProblem& e, const StudyCli& cli);
+
+/// Task monte_carlo on a model with events: each run's estimate by
+/// phased_estimate (cases without inputs). Returns the exit status.
+int monte_carlo_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt,
+                            ProblemOutputs problem, symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags);
+
+/// Task design on a model with events: phases at the switches and cut at the
+/// measurement times, the sensitivity states jumping at the switches, the
+/// Fisher matrix of the collocated sensitivities; re-simulated through the
+/// events (mode sequence, states, Fisher matrix), rebuilt up to 3 times.
+/// Returns the exit status.
+int design_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt, ProblemOutputs problem,
+                       symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags);
 
 }  // namespace mo::tools

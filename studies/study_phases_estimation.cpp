@@ -26,18 +26,10 @@ namespace mo::tools {
 
 using namespace detail;
 
-namespace {
-
-constexpr int kMaxAttempts = 3;
-constexpr std::size_t kMaxSwitches = 20;
-constexpr double kStateTolerance = 1e-3;
-constexpr double kTimeTolerance = 1e-3;
-
-/// Phases cut at every sample time inside (t0, tf), modes from `seq`; the
-/// next phase's start guesses from a simulation at those times.
 std::optional<PhaseLayout> sample_layout(const runtime::Model& model, const ModeSequence& seq,
-                                         const std::vector<double>& samples, const std::vector<double>& p, double t0,
-                                         double tf, double min_gap, std::string& why) {
+                                         const std::vector<double>& samples, const runtime::Inputs& inputs,
+                                         const std::vector<double>& p, double t0, double tf, double min_gap,
+                                         std::string& why) {
   std::vector<double> cuts;
   for (double t : samples)
     if (t > t0 && t < tf && (cuts.empty() || t > cuts.back())) cuts.push_back(t);
@@ -53,8 +45,11 @@ std::optional<PhaseLayout> sample_layout(const runtime::Model& model, const Mode
   runtime::SimulationOptions so;
   so.relative_tolerance = 1e-10;
   so.absolute_tolerance = 1e-10;
+  const runtime::ModelInfo& info = model.info();
+  if (info.num_base_states() < info.states.size())  // guesses of the sensitivity states, with their jumps
+    so.sensitivities.method = runtime::SensitivityMethod::model_states;
   auto sim_model = model.clone();
-  const auto sim = runtime::simulate(*sim_model, runtime::Inputs(), p, runtime::OutputGrid::at(grid), so);
+  const auto sim = runtime::simulate(*sim_model, inputs, p, runtime::OutputGrid::at(grid), so);
   if (!sim.ok() || sim.trajectory.rows() != grid.size()) {
     why = sim.message;
     return std::nullopt;
@@ -78,7 +73,6 @@ std::optional<PhaseLayout> sample_layout(const runtime::Model& model, const Mode
   return out;
 }
 
-/// Per switch: how many sample cuts precede it (the interval it must stay in).
 std::vector<std::size_t> interleaving(const ModeSequence& seq, const std::vector<double>& samples, double t0) {
   std::vector<std::size_t> out;
   for (const auto& sw : seq.switches)
@@ -87,9 +81,6 @@ std::vector<std::size_t> interleaving(const ModeSequence& seq, const std::vector
   return out;
 }
 
-/// Switches that ended within `near` of a sample time (their phase's length
-/// bound active), with a new guess in the middle of the sample interval
-/// across it.
 std::map<std::size_t, double> stuck_switches(const std::vector<double>& switches, const std::vector<double>& samples,
                                              double t0, double tf, double near) {
   std::vector<double> grid{t0};
@@ -105,11 +96,17 @@ std::map<std::size_t, double> stuck_switches(const std::vector<double>& switches
   return out;
 }
 
+namespace {
+
 /// χ² = Σ ((y − m)/σ)² as an output of the stacked model: each sample is the
 /// output at the end of the phase that ends at its time; a sample at t0 of a
-/// state is its start value. Returns the output index or a reason.
+/// state is its start value. Each m is a parameter of the stacked model
+/// (valued 0 there, so that the generated code does not depend on the data;
+/// its value goes to `measured_values`). Returns the output index or a reason.
 std::optional<std::size_t> add_chi_square(PhasedModel& pm, const symbolic::OdeModel& base,
-                                          const runtime::MeasurementTable& data, double t0, std::string& why) {
+                                          const runtime::MeasurementTable& data, double t0,
+                                          std::vector<std::pair<std::size_t, double>>& measured_values,
+                                          std::string& why) {
   auto& a = pm.ode.arena;
   std::vector<double> ends;  // the end time of each phase
   for (const auto& b : pm.layout.boundaries) ends.push_back(b.switch_index ? -1.0 : b.time);
@@ -138,7 +135,13 @@ std::optional<std::size_t> add_chi_square(PhasedModel& pm, const symbolic::OdeMo
         }
         y = pm.ode.outputs[pm.output(static_cast<std::size_t>(phase - ends.begin()), o)].value;
       }
-      const symbolic::Expr res = a.div(a.sub(y, a.constant(m)), a.constant(data.sigma[r]));
+      symbolic::VariableInfo info;
+      info.name = fmt::format("$sample{}.{}.measured", k + 1, base.outputs[o].info.name);
+      const auto index = static_cast<std::int32_t>(pm.ode.parameters.size());
+      const symbolic::Expr measured = a.symbol(info.name, symbolic::SymbolRole::Parameter, index);
+      pm.ode.parameters.push_back({info, measured, 0.0});
+      measured_values.emplace_back(static_cast<std::size_t>(index), m);
+      const symbolic::Expr res = a.div(a.sub(y, measured), a.constant(data.sigma[r]));
       sum = a.add(sum, a.mul(res, res));
     }
   symbolic::OdeOutput out;
@@ -201,6 +204,120 @@ void statistics(runtime::Model& model, const runtime::EstimationProblem& e, doub
 
 }  // namespace
 
+PhasedEstimate phased_estimate(const runtime::Model& model, symbolic::OdeModel& ode, const RelationMap& rel,
+                               const runtime::EstimationProblem& e, const StudyCli& cli) {
+  PhasedEstimate out;
+  const runtime::ModelInfo& info = model.info();
+  const auto& data = e.experiments.front().data;
+  const double t0 = e.experiments.front().t0, tf = data.times.back();
+  if (!(tf > t0)) throw UsageError("estimation needs samples after the start time");
+  const double min_gap = 1e-6 * (tf - t0);
+  std::vector<double> guess = e.parameter_values;
+  for (const auto& fp : e.parameters)
+    if (fp.initial_guess) guess[fp.parameter] = *fp.initial_guess;
+  runtime::OptimalControlProblem Pphys;
+  Pphys.t0 = t0;
+  Pphys.tf = tf;
+  runtime::OptimizationResult R;
+  std::map<std::size_t, double> moved;  // switches to start on the other side of a sample time
+  for (int attempt = 1; attempt <= kMaxAttempts; ++attempt) {
+    ModeRecording rec = record_modes(model, ode, rel, runtime::Inputs(), guess, t0, tf, kMaxSwitches, min_gap);
+    if (rec.refusal) {
+      out.refusal = rec.refusal;
+      return out;
+    }
+    if (!rec.sequence) {
+      out.error = "the simulation of the guess failed: " + rec.simulation_failure;
+      return out;
+    }
+    ModeSequence seq = *rec.sequence;
+    for (const auto& [k, t] : moved)
+      if (k < seq.switches.size()) seq.switches[k].time = t;
+    moved.clear();
+    std::string why;
+    auto layout = sample_layout(model, seq, data.times, runtime::Inputs(), guess, t0, tf, min_gap, why);
+    if (!layout) {
+      out.error = "estimation on a model with events: " + why;
+      return out;
+    }
+    PhasedModel pm = build_phased_model(ode, rel, seq, *layout, t0, tf, std::nullopt);
+    std::vector<std::pair<std::size_t, double>> measured;
+    const auto chi = add_chi_square(pm, ode, data, t0, measured, why);
+    if (!chi) throw UsageError("estimation on a model with events: " + why);
+    if (!cli.quiet)
+      std::cerr << fmt::format("morun: events: {} modes ({}), {} phases cut at the sample times\n", seq.modes.size(),
+                               describe_modes(ode, seq), pm.phases);
+    BuiltModel built = build_model(pm.ode, cli.jobs, "morun", cli.run, cli.quiet);
+    runtime::OptimalControlProblem P;
+    P.t0 = t0;
+    P.tf = tf;
+    P.parameters = guess;
+    for (auto fp : e.parameters) {
+      fp.initial_guess = guess[fp.parameter];
+      P.free_parameters.push_back(fp);
+    }
+    P.collocation = e.collocation;
+    P.collocation.n_e = std::max(2, (e.collocation.n_e + static_cast<int>(pm.phases) - 1) / static_cast<int>(pm.phases));
+    P.solver = e.solver;
+    Guess g{guess, {}};
+    runtime::OptimalControlProblem Q = phased_problem(P, pm, seq, g, info, min_gap);
+    for (const auto& [index, value] : measured) Q.parameters[index] = value;
+    Q.mayer.push_back({*chi, 1.0});
+    runtime::OptimizationResult r;
+    {
+      PhaseScope phase(cli.run, "solve", fmt::format("estimation, {} phases", pm.phases));
+      r = runtime::solve(*built.model, Q);
+    }
+    move_to_simulate(cli.run, r.timings.resimulation);
+    const std::vector<double> taus = boundary_times(pm, r, t0, tf);
+    const std::vector<double> switches = solved_switch_times(pm, r);
+    R = physical_result(pm, r, taus, info, 0);
+    Pphys.collocation.n_e = static_cast<int>(R.element_times.size()) - 1;
+    EventCheck check = check_resimulation(const_cast<runtime::Model&>(model), ode, rel, seq, Pphys, R, switches, min_gap);
+    const bool same = check.same_modes && check.modes &&
+                      interleaving(*check.modes, data.times, t0) == interleaving(seq, data.times, t0);
+    out.status = event_status(R, check, same, kTimeTolerance * (tf - t0), kStateTolerance);
+    out.events = events_json(ode, seq, check, pm.phases, attempt, switches, same,
+                             kTimeTolerance * (tf - t0), kStateTolerance);
+    if (!cli.quiet) {
+      std::cerr << fmt::format("morun: attempt {}: {}; re-simulated: {}, largest state difference {:.3g} of scale\n",
+                               attempt, runtime::to_string(R.status),
+                               check.modes ? describe_modes(ode, *check.modes) : check.failure, check.max_relative);
+      if (!R.message.empty()) std::cerr << "morun: " << R.message << "\n";
+    }
+    if (R.parameters.size() != guess.size()) R.parameters = guess;  // nothing solved: report the guess
+    if (out.status == "success" || out.status == "acceptable") {
+      moved = stuck_switches(switches, data.times, t0, tf, 10 * min_gap);
+      if (!moved.empty()) {
+        out.status = "switch_at_sample_time";
+        if (!cli.quiet)
+          std::cerr << "morun: a switching time ends on a sample time (its phase bound is active): solving again "
+                       "with it on the other side\n";
+      }
+    }
+    if ((out.status != "mode_sequence_changed" && out.status != "switch_at_sample_time") || attempt == kMaxAttempts)
+      break;
+    guess = R.parameters;
+  }
+  runtime::EstimationResult& er = out.result;
+  er.status = R.status;
+  er.message = R.message;
+  for (const auto& fp : e.parameters) {
+    er.names.push_back(info.parameters[fp.parameter].name);
+    er.estimate.push_back(R.parameters[fp.parameter]);
+  }
+  er.parameters = R.parameters;
+  er.chi_square = R.objective;
+  er.iterations = R.iterations;
+  for (Eigen::Index k = 0; k < data.values.size(); ++k)
+    if (!std::isnan(data.values.data()[k])) ++er.measurements;
+  statistics(const_cast<runtime::Model&>(model), e, t0, er);
+  if (out.status != "success" && out.status != "acceptable" && er.status == runtime::OptimizationStatus::success)
+    er.status = runtime::OptimizationStatus::invalid_problem;  // the events check failed: not an estimate to use
+  er.experiments.push_back(R);
+  return out;
+}
+
 int estimation_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt, ProblemOutputs problem,
                            symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags) {
   const RelationMap rel = match_relations(ode);
@@ -221,103 +338,14 @@ int estimation_with_events(frontend::flat::Model& flat, const StudyCli& cli, Stu
   e.collocation = collocation_options(s.opt);
   e.solver = solver_options(s);
   e.confidence = s.opt.confidence;
-  const auto& data = e.experiments.front().data;
-  const double t0 = s.problem.t0, tf = data.times.back();
-  if (!(tf > t0)) throw UsageError("estimation needs samples after the start time");
-  const double min_gap = 1e-6 * (tf - t0);
-  std::vector<double> guess = e.parameter_values;
-  for (const auto& fp : e.parameters)
-    if (fp.initial_guess) guess[fp.parameter] = *fp.initial_guess;
-  runtime::OptimalControlProblem Pphys;
-  Pphys.t0 = t0;
-  Pphys.tf = tf;
-  runtime::OptimizationResult R;
-  std::string status;
-  nlohmann::json events;
-  std::map<std::size_t, double> moved;  // switches to start on the other side of a sample time
-  for (int attempt = 1; attempt <= kMaxAttempts; ++attempt) {
-    ModeRecording rec = record_modes(*s.built.model, ode, rel, runtime::Inputs(), guess, t0, tf, kMaxSwitches, min_gap);
-    if (rec.refusal) return refuse_phases(flat, *rec.refusal, diags);
-    if (!rec.sequence) {
-      std::cerr << "morun: error: the simulation of the guess failed: " << rec.simulation_failure << "\n";
-      return 1;
-    }
-    ModeSequence seq = *rec.sequence;
-    for (const auto& [k, t] : moved)
-      if (k < seq.switches.size()) seq.switches[k].time = t;
-    moved.clear();
-    std::string why;
-    auto layout = sample_layout(*s.built.model, seq, data.times, guess, t0, tf, min_gap, why);
-    if (!layout) {
-      std::cerr << "morun: error: estimation on a model with events: " << why << "\n";
-      return 1;
-    }
-    PhasedModel pm = build_phased_model(ode, rel, seq, *layout, t0, tf, std::nullopt);
-    const auto chi = add_chi_square(pm, ode, data, t0, why);
-    if (!chi) throw UsageError("estimation on a model with events: " + why);
-    std::cerr << fmt::format("morun: events: {} modes ({}), {} phases cut at the sample times\n", seq.modes.size(),
-                             describe_modes(ode, seq), pm.phases);
-    BuiltModel built = build_model(pm.ode, cli.jobs, "morun", cli.run, cli.quiet);
-    runtime::OptimalControlProblem P;
-    P.t0 = t0;
-    P.tf = tf;
-    P.parameters = guess;
-    for (auto fp : e.parameters) {
-      fp.initial_guess = guess[fp.parameter];
-      P.free_parameters.push_back(fp);
-    }
-    P.collocation = e.collocation;
-    P.collocation.n_e = std::max(2, (e.collocation.n_e + static_cast<int>(pm.phases) - 1) / static_cast<int>(pm.phases));
-    P.solver = e.solver;
-    Guess g{guess, {}};
-    runtime::OptimalControlProblem Q = phased_problem(P, pm, seq, g, info, min_gap);
-    Q.mayer.push_back({*chi, 1.0});
-    runtime::OptimizationResult r;
-    {
-      PhaseScope phase(cli.run, "solve", fmt::format("estimation, {} phases", pm.phases));
-      r = runtime::solve(*built.model, Q);
-    }
-    move_to_simulate(cli.run, r.timings.resimulation);
-    const std::vector<double> taus = boundary_times(pm, r, t0, tf);
-    const std::vector<double> switches = solved_switch_times(pm, r);
-    R = physical_result(pm, r, taus, info, 0);
-    Pphys.collocation.n_e = static_cast<int>(R.element_times.size()) - 1;
-    EventCheck check = check_resimulation(*s.built.model, ode, rel, seq, Pphys, R, switches, min_gap);
-    const bool same = check.same_modes && check.modes &&
-                      interleaving(*check.modes, data.times, t0) == interleaving(seq, data.times, t0);
-    status = event_status(R, check, same, kTimeTolerance * (tf - t0), kStateTolerance);
-    events = events_json(ode, seq, check, pm.phases, attempt, switches, same,
-                         kTimeTolerance * (tf - t0), kStateTolerance);
-    std::cerr << fmt::format("morun: attempt {}: {}; re-simulated: {}, largest state difference {:.3g} of scale\n",
-                             attempt, runtime::to_string(R.status),
-                             check.modes ? describe_modes(ode, *check.modes) : check.failure, check.max_relative);
-    if (!R.message.empty()) std::cerr << "morun: " << R.message << "\n";
-    if (R.parameters.size() != guess.size()) R.parameters = guess;  // nothing solved: report the guess
-    if (status == "success" || status == "acceptable") {
-      moved = stuck_switches(switches, data.times, t0, tf, 10 * min_gap);
-      if (!moved.empty()) {
-        status = "switch_at_sample_time";
-        std::cerr << "morun: a switching time ends on a sample time (its phase bound is active): solving again "
-                     "with it on the other side\n";
-      }
-    }
-    if ((status != "mode_sequence_changed" && status != "switch_at_sample_time") || attempt == kMaxAttempts) break;
-    guess = R.parameters;
+  PhasedEstimate pe = phased_estimate(*s.built.model, ode, rel, e, cli);
+  if (pe.refusal) return refuse_phases(flat, *pe.refusal, diags);
+  if (!pe.error.empty()) {
+    std::cerr << "morun: error: " << pe.error << "\n";
+    return 1;
   }
-  runtime::EstimationResult er;
-  er.status = R.status;
-  er.message = R.message;
-  for (const auto& fp : e.parameters) {
-    er.names.push_back(info.parameters[fp.parameter].name);
-    er.estimate.push_back(R.parameters[fp.parameter]);
-  }
-  er.parameters = R.parameters;
-  er.chi_square = R.objective;
-  er.iterations = R.iterations;
-  for (Eigen::Index k = 0; k < data.values.size(); ++k)
-    if (!std::isnan(data.values.data()[k])) ++er.measurements;
-  statistics(*s.built.model, e, t0, er);
-  er.experiments.push_back(R);
+  runtime::EstimationResult& er = pe.result;
+  er.status = er.experiments.front().status;  // Ipopt's; `status` in summary.json says whether the check held
   {
     PhaseScope phase(cli.run, "simulate", "fit at the estimate");
     write_estimation_outputs(cli.output, *s.built.model, e, er);
@@ -328,12 +356,36 @@ int estimation_with_events(frontend::flat::Model& flat, const StudyCli& cli, Stu
     std::ifstream in(path);
     j = nlohmann::json::parse(in);
   }
-  j["status"] = status;
-  j["events"] = events;
+  j["status"] = pe.status;
+  j["events"] = pe.events;
   runtime::write_file_atomic(path, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
   print_estimates(std::cerr, er);
-  std::cerr << fmt::format("morun: estimation {}\n", status);
-  return status == "success" || status == "acceptable" ? 0 : 1;
+  std::cerr << fmt::format("morun: estimation {}\n", pe.status);
+  return pe.status == "success" || pe.status == "acceptable" ? 0 : 1;
+}
+
+int monte_carlo_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt,
+                            ProblemOutputs problem, symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags) {
+  const RelationMap rel = match_relations(ode);
+  if (auto r = check_event_constructs(ode, rel)) return refuse_phases(flat, *r, diags);
+  Study s{flat, cli, std::move(opt), std::move(problem), build_model(ode, cli.jobs, "morun", cli.run, cli.quiet)};
+  if (!s.info().inputs.empty())
+    throw UsageError("monte_carlo on a model with events takes a model without inputs (docs/events.md)");
+  StudyCli quiet = cli;
+  quiet.quiet = true;
+  quiet.run = nullptr;
+  quiet.jobs = 1;
+  s.estimate = [&](const runtime::EstimationProblem& e) {
+    PhasedEstimate pe = phased_estimate(*s.built.model, ode, rel, e, quiet);
+    if (pe.refusal || !pe.error.empty()) {
+      runtime::EstimationResult failed;
+      failed.status = runtime::OptimizationStatus::invalid_problem;
+      failed.message = pe.refusal ? pe.refusal->message : pe.error;
+      return failed;
+    }
+    return std::move(pe.result);
+  };
+  return monte_carlo(s);
 }
 
 }  // namespace mo::tools

@@ -3,7 +3,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,38 @@ struct Guess {
   std::vector<std::shared_ptr<const runtime::InputSignal>> controls;
 };
 
+constexpr std::size_t kMaxSwitches = 20;  ///< more switches in one simulation: chattering or Zeno
+constexpr int kMaxAttempts = 3;           ///< solves with an updated mode sequence
+/// The re-simulation must agree with the collocation to this fraction of each
+/// state's scale (its largest |x| on the trajectory, at least its nominal).
+constexpr double kStateTolerance = 1e-3;
+/// A re-simulated switch must lie this fraction of the horizon from the collocation's.
+constexpr double kTimeTolerance = 1e-3;
+
+/// The initial guess of `P`: free parameters' and controls' initialGuess
+/// (a control without one: 0 clamped to its bounds).
+Guess initial_guess(const runtime::OptimalControlProblem& P);
+
+/// The inputs of `P` under the guess: its fixed inputs and the guessed controls.
+runtime::Inputs guess_inputs(const Guess& g, const runtime::OptimalControlProblem& P, std::size_t nu);
+
+/// Phases cut at every sample time inside (t0, tf), modes from `seq`; the
+/// next phase's start guesses from a simulation at those times with
+/// `inputs`. nullopt with `why` if a switch lies on a sample time or the
+/// simulation fails.
+std::optional<PhaseLayout> sample_layout(const runtime::Model& model, const ModeSequence& seq,
+                                         const std::vector<double>& samples, const runtime::Inputs& inputs,
+                                         const std::vector<double>& p, double t0, double tf, double min_gap,
+                                         std::string& why);
+
+/// Per switch: how many sample cuts precede it (the interval it must stay in).
+std::vector<std::size_t> interleaving(const ModeSequence& seq, const std::vector<double>& samples, double t0);
+
+/// Switches that ended within `near` of a sample time (their phase's length
+/// bound active), with a new guess in the middle of the sample interval across it.
+std::map<std::size_t, double> stuck_switches(const std::vector<double>& switches, const std::vector<double>& samples,
+                                             double t0, double tf, double near);
+
 /// The multi-phase problem on s ∈ [0, 1] for the stacked model `pm` built from
 /// `P` (the base problem on physical time): controls and fixed inputs per
 /// phase, free switching times and phase starts, switch and jump constraints
@@ -25,7 +59,8 @@ struct Guess {
 /// inside the horizon.
 runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProblem& P, const PhasedModel& pm,
                                               const ModeSequence& seq, const Guess& g,
-                                              const runtime::ModelInfo& base, double min_gap);
+                                              const runtime::ModelInfo& base, double min_gap,
+                                              bool keep_signs = false);
 
 /// The phases' boundaries τ_0 = t0 < ... < τ_K = tf at the solution `r`.
 std::vector<double> boundary_times(const PhasedModel& pm, const runtime::OptimizationResult& r, double t0, double tf);

@@ -1,8 +1,11 @@
 // The stacked multi-phase model and the checks of a model's event
 // constructs; see study_phases.hpp.
+#include <algorithm>
+#include <map>
 #include <stdexcept>
 #include <unordered_map>
 
+#include "mo/symbolic/event_tangents.hpp"
 #include "mo/symbolic/printer.hpp"
 #include "mo/symbolic/traversal.hpp"
 #include "study_phases.hpp"
@@ -173,6 +176,7 @@ public:
     out_.layout = lay_;
     out_.nx = b_.states.size(), out_.nu = b_.inputs.size(), out_.np = b_.parameters.size();
     out_.ny = b_.outputs.size();
+    if (b_.num_base_states() < b_.states.size()) tangents_ = symbolic::event_tangents(b_);
     add_parameters();
     taus_.push_back(m_.arena.constant(t0));
     for (const auto& b : lay_.boundaries)
@@ -181,6 +185,7 @@ public:
     add_variables();
     for (std::size_t k = 0; k < K_; ++k) add_phase(k);
     for (std::size_t k = 0; k + 1 < K_; ++k) add_boundary(k);
+    for (std::size_t k = 0; k < K_; ++k) add_sign_outputs(k);
     if (K_ > 1)
       for (std::size_t k = 0; k < K_; ++k) out_.length_output.push_back(add_output("$phase" + std::to_string(k + 1) + ".length", length(k)));
     if (lagrange) {
@@ -208,6 +213,21 @@ private:
       info.name = "$switch" + std::to_string(k + 1) + ".time";
       out_.switch_time.push_back(add_parameter(info, seq_.switches[k].time));
     }
+    if (tangents_)
+      for (std::size_t k = 0; k < seq_.switches.size(); ++k) {
+        out_.fplus_parameter.push_back(m_.parameters.size());
+        for (std::size_t i = 0; i < b_.num_base_states(); ++i) {
+          symbolic::VariableInfo info;
+          info.name = "$switch" + std::to_string(k + 1) + ".fplus." + b_.states[i].info.name;
+          add_parameter(info, 0.0);
+        }
+        out_.input_parameter.push_back(m_.parameters.size());
+        for (const auto& u : b_.inputs) {
+          symbolic::VariableInfo info;
+          info.name = "$switch" + std::to_string(k + 1) + ".input." + u.info.name;
+          add_parameter(info, 0.0);
+        }
+      }
     for (std::size_t k = 0; k + 1 < K_; ++k) {
       out_.phase_start.push_back(m_.parameters.size());
       for (std::size_t i = 0; i < b_.states.size(); ++i) {
@@ -353,11 +373,174 @@ private:
       map_leaves(c, k, after_mode, before);
       for (std::size_t w : sw.whens)
         for (const auto& r : b_.whens[w].reinits) after[r.state] = c.copy(r.value);
+      if (tangents_) add_sensitivity_jump(k, *bd.switch_index, after);
     }
     out_.jump_output.push_back(m_.outputs.size());
     for (std::size_t i = 0; i < b_.states.size(); ++i)
       add_output(prefix + ".jump." + b_.states[i].info.name,
                  m_.arena.sub(after[i], m_.parameters[out_.phase_start[k] + i].symbol));
+  }
+
+  /// Per phase, sign·g for the indicators of the equations with a sign in its mode.
+  void add_sign_outputs(std::size_t k) {
+    const PhaseMode& mode = seq_.modes[lay_.mode[k]];
+    for (std::size_t i = 0; i < b_.zero_crossings.size(); ++i) {
+      if (!rel_.in_equations[i] || i >= mode.signs.size() || mode.signs[i] == 0) continue;
+      const Expr g = phase_copy(k, mode, mode, {b_.zero_crossings[i]}).front();
+      const std::string name = "$phase" + std::to_string(k + 1) + ".sign" + std::to_string(i + 1);
+      out_.sign_output.push_back(add_output(name, mode.signs[i] > 0 ? g : m_.arena.neg(g)));
+    }
+  }
+
+  /// Copies `roots` of the base arena as seen at the end of phase k (its
+  /// states, inputs, algebraics), discrete values of `now` and pre() of `before`.
+  std::vector<Expr> phase_copy(std::size_t k, const PhaseMode& now, const PhaseMode& before,
+                               const std::vector<Expr>& roots, Copier* with = nullptr) {
+    Copier own(b_.arena, m_.arena);
+    Copier& c = with ? *with : own;
+    map_leaves(c, k, now, before);
+    for (std::size_t i = 0; i < b_.states.size(); ++i)
+      c.set(b_.states[i].derivative, find_algebraic(k, "der(" + b_.states[i].info.name + ")"));
+    for (const auto& a : b_.algebraics) c.set(a.symbol, find_algebraic(k, a.info.name));
+    c.copy_all(roots);
+    std::vector<Expr> out;
+    for (Expr r : roots) out.push_back(c.at(r));
+    return out;
+  }
+
+  /// The event tangents of `roots` (tangent expressions of the base model)
+  /// along the direction (δx, δp, δt) at the end of phase k: the tangent steps
+  /// they need are copied with fresh algebraic symbols.
+  std::vector<Expr> tangent_copy(std::size_t k, const PhaseMode& now, const PhaseMode& before,
+                                 const std::vector<Expr>& dx, const std::vector<Expr>& dp, Expr dt,
+                                 const std::vector<Expr>& roots) {
+    const symbolic::EventTangents& t = *tangents_;
+    Copier c(b_.arena, m_.arena);
+    for (std::size_t i = 0; i < t.seed_x.size(); ++i) c.set(t.seed_x[i], dx[i]);
+    for (std::size_t j = 0; j < t.seed_p.size(); ++j) c.set(t.seed_p[j], dp[j]);
+    c.set(t.seed_t, dt);
+    const std::vector<std::size_t> needed = needed_tangent_steps(roots);
+    std::vector<Expr> all = roots;
+    for (std::size_t s : needed) {
+      const symbolic::Step& step = t.directional.steps[s];
+      if (const auto* as = std::get_if<symbolic::Assignment>(&step)) {
+        c.set(as->target, fresh_algebraic(as->target));
+        all.push_back(as->value);
+        continue;
+      }
+      const auto& b = std::get<symbolic::EquationBlock>(step);
+      for (Expr u : b.unknowns) c.set(u, fresh_algebraic(u));
+      all.insert(all.end(), b.residuals.begin(), b.residuals.end());
+      all.insert(all.end(), b.offset.begin(), b.offset.end());
+      for (const auto& e : b.jacobian) all.push_back(e.value);
+    }
+    std::vector<Expr> out = phase_copy(k, now, before, all, &c);
+    for (std::size_t s : needed) copy_step(c, t.directional.steps[s]);
+    out.resize(roots.size());
+    return out;
+  }
+
+  /// Indices of the tangent steps `roots` depend on, in order.
+  std::vector<std::size_t> needed_tangent_steps(const std::vector<Expr>& roots) {
+    const auto& steps = tangents_->directional.steps;
+    std::unordered_map<Expr, bool, symbolic::ExprHash> wanted;
+    for (Expr l : symbolic::leaves(b_.arena, roots)) wanted[l] = true;
+    std::vector<std::size_t> out;
+    for (std::size_t s = steps.size(); s-- > 0;) {
+      std::vector<Expr> targets, uses;
+      if (const auto* as = std::get_if<symbolic::Assignment>(&steps[s])) {
+        targets.push_back(as->target);
+        uses.push_back(as->value);
+      } else {
+        const auto& b = std::get<symbolic::EquationBlock>(steps[s]);
+        targets = b.unknowns;
+        uses.insert(uses.end(), b.residuals.begin(), b.residuals.end());
+        uses.insert(uses.end(), b.offset.begin(), b.offset.end());
+        for (const auto& e : b.jacobian) uses.push_back(e.value);
+      }
+      if (std::none_of(targets.begin(), targets.end(), [&](Expr e) { return wanted.contains(e); })) continue;
+      out.push_back(s);
+      for (Expr l : symbolic::leaves(b_.arena, uses)) wanted[l] = true;
+    }
+    std::reverse(out.begin(), out.end());
+    return out;
+  }
+
+  Expr fresh_algebraic(Expr base_symbol) {
+    symbolic::VariableInfo info;
+    info.name = "$tangent" + std::to_string(++tangent_symbols_) + "." + b_.arena.symbol_info(base_symbol).name;
+    return add_algebraic(info);
+  }
+
+  /// The sensitivity states' jump at switch `sw` (the end of phase k), into
+  /// `after` (docs/events.md): with η_j = dτ/dp_j = −δg(S⁻_j, e_j, 0) / δg(f⁻, 0, 1),
+  /// S⁺_j = δr(S⁻_j + f⁻ η_j, e_j, η_j) − f⁺ η_j, f⁺ the parameters φ that
+  /// equal der(x) at the start of the next phase.
+  void add_sensitivity_jump(std::size_t k, std::size_t sw_index, std::vector<Expr>& after) {
+    const PhaseSwitch& sw = seq_.switches[sw_index];
+    const PhaseMode& before = seq_.modes[lay_.mode[k]];
+    const PhaseMode& next = seq_.modes[lay_.mode[k + 1]];
+    const std::size_t nb = b_.num_base_states(), nx = b_.states.size(), np = b_.parameters.size();
+    auto& a = m_.arena;
+    const Expr zero = a.constant(0.0), one = a.constant(1.0);
+    std::vector<Expr> f_minus, f_plus;
+    for (std::size_t i = 0; i < nb; ++i) {
+      f_minus.push_back(find_algebraic(k, "der(" + b_.states[i].info.name + ")"));
+      f_plus.push_back(m_.parameters[out_.fplus_parameter[sw_index] + i].symbol);
+    }
+    const std::string prefix = "$switch" + std::to_string(sw_index + 1) + ".fplus.";
+    if (out_.fplus_output.size() == sw_index) {
+      out_.fplus_output.push_back(m_.outputs.size());
+      for (std::size_t i = 0; i < nb; ++i)
+        add_output(prefix + b_.states[i].info.name,
+                   a.sub(find_algebraic(k + 1, "der(" + b_.states[i].info.name + ")"), f_plus[i]));
+    }
+    if (out_.input_before_output.size() == sw_index) {
+      out_.input_before_output.push_back(m_.outputs.size());
+      for (std::size_t j = 0; j < b_.inputs.size(); ++j)
+        add_output("$switch" + std::to_string(sw_index + 1) + ".input_before." + b_.inputs[j].info.name,
+                   a.sub(m_.inputs[out_.input(k, j)].symbol, m_.parameters[out_.input_parameter[sw_index] + j].symbol));
+      out_.input_after_output.push_back(m_.outputs.size());
+      for (std::size_t j = 0; j < b_.inputs.size(); ++j)
+        add_output("$switch" + std::to_string(sw_index + 1) + ".input_after." + b_.inputs[j].info.name,
+                   a.sub(m_.inputs[out_.input(k + 1, j)].symbol, m_.parameters[out_.input_parameter[sw_index] + j].symbol));
+    }
+    const Expr g_tangent = tangents_->indicators[sw.indicator];
+    std::vector<Expr> dx(nx, zero), dp(np, zero);
+    std::copy(f_minus.begin(), f_minus.end(), dx.begin());
+    const Expr gdot = tangent_copy(k, before, before, dx, dp, one, {g_tangent}).front();
+    std::map<std::size_t, std::vector<std::pair<std::size_t, std::size_t>>> by_parameter;  // j → (i, state)
+    for (std::size_t s = nb; s < nx; ++s)
+      if (const auto& of = b_.states[s].sensitivity) by_parameter[of->parameter].push_back({of->state, s});
+    std::vector<Expr> reinit_roots;
+    std::vector<std::size_t> reinit_state;
+    for (std::size_t w : sw.whens)
+      for (std::size_t r = 0; r < b_.whens[w].reinits.size(); ++r) {
+        reinit_roots.push_back(tangents_->whens[w].reinits[r]);
+        reinit_state.push_back(b_.whens[w].reinits[r].state);
+      }
+    for (const auto& [j, entries] : by_parameter) {
+      std::fill(dx.begin(), dx.end(), zero);
+      std::fill(dp.begin(), dp.end(), zero);
+      for (const auto& [i, s] : entries) dx[i] = m_.states[out_.state(k, s)].symbol;
+      dp[j] = one;
+      const Expr dg = tangent_copy(k, before, before, dx, dp, zero, {g_tangent}).front();
+      const Expr eta = a.neg(a.div(dg, gdot));
+      for (std::size_t i = 0; i < nb; ++i) dx[i] = a.add(dx[i], a.mul(f_minus[i], eta));
+      std::vector<Expr> dxplus(dx.begin(), dx.begin() + static_cast<std::ptrdiff_t>(nb));
+      const std::vector<Expr> dr = tangent_copy(k, next, before, dx, dp, eta, reinit_roots);
+      for (std::size_t r = 0; r < dr.size(); ++r) dxplus[reinit_state[r]] = dr[r];
+      std::vector<bool> has(nb, false);
+      for (const auto& [i, s] : entries) {
+        after[s] = a.sub(dxplus[i], a.mul(f_plus[i], eta));
+        has[i] = true;
+      }
+      const auto is_zero = [&](Expr e) { return a.kind(e) == ExprKind::Constant && a.constant_value(e) == 0.0; };
+      for (std::size_t i = 0; i < nb; ++i)
+        if (!has[i] && !is_zero(a.sub(dxplus[i], a.mul(f_plus[i], eta))))
+          throw std::logic_error("multi-phase model: the sensitivity of " + b_.states[i].info.name + " to " +
+                                 b_.parameters[j].info.name + " has no state but may jump at an event");
+    }
   }
 
   Expr find_algebraic(std::size_t k, const std::string& name) {
@@ -374,6 +557,8 @@ private:
   OdeModel& m_;
   std::size_t K_;
   std::vector<Expr> taus_;
+  std::optional<symbolic::EventTangents> tangents_;  ///< with sensitivity states
+  std::size_t tangent_symbols_ = 0;
 };
 
 }  // namespace

@@ -1,0 +1,144 @@
+// Input design and Monte Carlo on models with events (issue 15, items 3-4;
+// docs/events.md): the multi-phase design's Fisher matrix, built from the
+// collocated sensitivities with their jumps at the switches, against the
+// Fisher matrix of finite-difference sensitivities of whole re-simulations
+// under the designed input (a friction element whose right-hand side jumps;
+// the bouncing ball, whose velocity is reinitialised).
+#include <nlohmann/json.hpp>
+
+#include <Eigen/Dense>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "e2e/cli.hpp"
+#include "e2e/support.hpp"
+
+using namespace mo::e2e;
+using nlohmann::json;
+
+namespace {
+
+json summary(const fs::path& dir) { return json::parse(slurp(dir / "summary.json")); }
+
+Eigen::MatrixXd matrix(const json& j) {
+  Eigen::MatrixXd m(static_cast<Eigen::Index>(j.size()), static_cast<Eigen::Index>(j.size()));
+  for (std::size_t a = 0; a < j.size(); ++a)
+    for (std::size_t b = 0; b < j.size(); ++b) m(Eigen::Index(a), Eigen::Index(b)) = j[a][b].get<double>();
+  return m;
+}
+
+/// The column `name` of a CSV with a header row.
+std::vector<double> column(const fs::path& csv, const std::string& name) {
+  std::ifstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  std::size_t index = 0, k = 0;
+  std::stringstream header(line);
+  for (std::string f; std::getline(header, f, ','); ++k)
+    if (f == name) index = k + 1;
+  REQUIRE(index > 0);
+  std::vector<double> out;
+  while (std::getline(in, line)) {
+    std::stringstream ss(line);
+    std::string f;
+    for (std::size_t c = 0; c < index; ++c) std::getline(ss, f, ',');
+    out.push_back(std::stod(f));
+  }
+  return out;
+}
+
+std::string fmt_double(double v) {
+  std::ostringstream os;
+  os.precision(17);
+  os << v;
+  return os.str();
+}
+
+/// What a finite-difference Fisher matrix needs: the model and how to drive it.
+struct Replay {
+  std::string file, model, input;  ///< input: "u=pwc:FILE" or empty
+  double stop = 0;
+  unsigned intervals = 0;          ///< output grid: the measurement times are its points after 0
+  std::string output;              ///< measured variable
+  double sigma = 0;
+};
+
+/// Σ_k S(t_k) S(t_k)ᵀ / σ² with S from central differences (relative step 1e-4:
+/// result.csv holds 10 digits) of simulations at rtol 1e-11 under the designed input.
+Eigen::MatrixXd fisher_by_differences(const Replay& r, const std::vector<std::pair<std::string, double>>& params,
+                                      const fs::path& dir) {
+  const auto n = static_cast<Eigen::Index>(params.size());
+  Eigen::MatrixXd s(static_cast<Eigen::Index>(r.intervals), n);
+  for (Eigen::Index j = 0; j < n; ++j) {
+    const auto& [name, value] = params[static_cast<std::size_t>(j)];
+    const double h = 1e-4 * std::abs(value);
+    std::vector<double> y[2];
+    for (int side = 0; side < 2; ++side) {
+      const fs::path out = dir / (name + (side ? "_plus" : "_minus"));
+      const Run run = morun(quoted(kData + r.file) + " --class " + r.model + " --stop-time " + std::to_string(r.stop) +
+                                " --intervals " + std::to_string(r.intervals) + " --rtol 1e-11 --atol 1e-12" +
+                                (r.input.empty() ? "" : " --input " + quoted(r.input)) + " --set " + name + "=" +
+                                fmt_double(value + (side ? h : -h)) + " -o " + quoted(out.string()),
+                            dir);
+      INFO(run.err);
+      REQUIRE(run.status == 0);
+      y[side] = column(out / "result.csv", r.output);
+      REQUIRE(y[side].size() == r.intervals + 1);
+    }
+    for (unsigned k = 0; k < r.intervals; ++k) s(Eigen::Index(k), j) = (y[1][k + 1] - y[0][k + 1]) / (2 * h);
+  }
+  return s.transpose() * s / (r.sigma * r.sigma);
+}
+
+}  // namespace
+
+TEST_CASE("friction: the design's Fisher matrix equals the one of finite-difference re-simulations",
+          "[events][studies][design]") {
+  const fs::path dir = scratch("event_design_friction");
+  const Run r = morun(quoted(kData + "FrictionDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  CHECK(s["events"]["mode_sequence_held"] == true);
+  CHECK(s["events"]["mode_sequence"].size() == 1);
+  CHECK(s["events"]["phases"] == 11);  // two modes, cut at the ten measurement times
+  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
+  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
+  const Replay replay{"FrictionDesign.mop", "FrictionMass", "F=pwc:" + (dir / "out" / "designed_input.csv").string(),
+                      2.0, 10, "x", 0.01};
+  const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"Fc", 0.3}, {"d", 0.5}}, dir);
+  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
+  // Stated tolerance: 1e-5 of the largest entry (the collocation's own error
+  // with n_e = 40, n_cp = 3 is about 1e-6 of it here).
+  const double scale = fd.cwiseAbs().maxCoeff();
+  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  // The sensitivity to Fc jumps at the reversal: without the jump the
+  // collocated Fisher matrix would be far from the finite differences.
+  CHECK(fd(0, 0) > 1.0);
+}
+
+TEST_CASE("ball: Monte Carlo through the bounces, every run's interval covers the truth", "[events][studies]") {
+  const fs::path dir = scratch("event_monte_carlo_ball");
+  const Run r = morun(quoted(kData + "BallMonteCarlo.mop") + " -j 1 -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  REQUIRE(s["cases"].size() == 1);
+  const json& c = s["cases"][0];
+  CHECK(c["runs"] == 4);
+  CHECK(c["failures"] == 0);
+  CHECK(double(c["ci_coverage"]) == 1.0);  // seeds 1-4: each 95% interval holds the true g and e
+  for (const json& p : c["parameters"]) {
+    INFO(p.dump());
+    // The mean of 4 runs within 2 Cramér–Rao bounds of the truth (a bound of one run).
+    CHECK(std::abs(double(p["bias"])) < 2.0 * double(p["cramer_rao"]));
+    CHECK(double(p["std"]) < 2.0 * double(p["cramer_rao"]));
+  }
+  // The estimates themselves, from monte_carlo.csv: g near 9.81, e near 0.8.
+  CHECK(column(dir / "out" / "monte_carlo.csv", "g").size() == 4);
+  for (double g : column(dir / "out" / "monte_carlo.csv", "g")) CHECK(g == Approx(9.81).margin(0.15));
+  for (double e : column(dir / "out" / "monte_carlo.csv", "e")) CHECK(e == Approx(0.8).margin(0.01));
+}
