@@ -8,12 +8,14 @@ j() { jq -r "$2" "$out/$1/summary.json"; }
 fmt() { awk -v v="$1" -v f="$2" 'BEGIN { if (v == "null" || v == "") print "–"; else printf f, v }'; }
 # The Hessian of a design's kept solve; both attempts when the L-BFGS fallback ran.
 hessian() {
-  jq -r '(.design.attempts // []) as $a |
+  jq -r 'def sci: if . == 0 then "0" else (fabs | log10 | floor) as $e
+      | ((. / pow(10; $e) * 10 | round) / 10 | tostring) + "e" + ($e | tostring) end;
+    (.design.attempts // []) as $a |
     if ($a | length) == 0 then "–"
     elif ($a | length) == 1 then ($a[0].hessian | sub("_"; "-"))
     else [$a[] | "\(.hessian | sub("_"; "-")): \(.status), \(.iterations) it., KKT \(
       [.kkt.primal_infeasibility, .kkt.dual_infeasibility, .kkt.complementarity]
-      | map(if . == null then "–" else (. * 1000 | round / 1000 | tostring) end) | join(" / "))\(
+      | map(if . == null then "–" else sci end) | join(" / "))\(
       if .kept then " (kept)" else "" end)"] | join("; ") end' "$out/$1/summary.json"
 }
 # The multistart runs of section 2: local optima, how many starts reached the best, every start.
