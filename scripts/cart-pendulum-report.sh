@@ -6,6 +6,47 @@ set -euo pipefail
 out=$1
 j() { jq -r "$2" "$out/$1/summary.json"; }
 fmt() { awk -v v="$1" -v f="$2" 'BEGIN { if (v == "null" || v == "") print "–"; else printf f, v }'; }
+# The Hessian of a design's kept solve; both attempts when the L-BFGS fallback ran.
+hessian() {
+  jq -r 'def sci: if . == 0 then "0" else (fabs | log10 | floor) as $e
+      | ((. / pow(10; $e) * 10 | round) / 10 | tostring) + "e" + ($e | tostring) end;
+    (.design.attempts // []) as $a |
+    if ($a | length) == 0 then "–"
+    elif ($a | length) == 1 then ($a[0].hessian | sub("_"; "-"))
+    else [$a[] | "\(.hessian | sub("_"; "-")): \(.status), \(.iterations) it., KKT \(
+      [.kkt.primal_infeasibility, .kkt.dual_infeasibility, .kkt.complementarity]
+      | map(if . == null then "–" else sci end) | join(" / "))\(
+      if .kept then " (kept)" else "" end)"] | join("; ") end' "$out/$1/summary.json"
+}
+# The multistart runs of section 2: local optima, how many starts reached the best, every start.
+multistart_section() {
+  local run
+  for run in design design_ncp1 design_T5 design_D5 design_E5; do
+    [ -f "$out/$run/summary.json" ] || continue
+    [ "$(j "$run" '.design.multistart != null')" = true ] || continue
+    echo
+    echo "**Multistart of \`$run\`**: $(j "$run" .design.multistart.starts) starts," \
+      "$(j "$run" .design.multistart.converged) converged," \
+      "$(j "$run" '.design.multistart.local_optima | length') local optima (relative tolerance" \
+      "$(j "$run" .design.multistart.cluster_tol)); the best design (start" \
+      "$(j "$run" .design.multistart.best_start)) was reached by" \
+      "$(j "$run" .design.multistart.reached_best) of $(j "$run" .design.multistart.starts) starts."
+    echo
+    echo "| local optimum | information (collocation) | information (re-simulated) | starts reaching it | which |"
+    echo "|---:|---:|---:|---:|---|"
+    jq -r '.design.multistart.local_optima | to_entries[] |
+      "| \(.key + 1) | \(.value.information_collocation) | \(.value.information_resimulated) | \(.value.count) | \(.value.starts | map(tostring) | join(", ")) |"' \
+      "$out/$run/summary.json" |
+      awk -F'|' 'BEGIN { OFS = "|" } { $3 = sprintf(" %.6g ", $3); $4 = sprintf(" %.6g ", $4); print }'
+    echo
+    echo "| start | initial input | status | iterations | information (collocation) | seconds |"
+    echo "|---:|---|---|---:|---:|---:|"
+    jq -r '.design.multistart.per_start[] |
+      "| \(.start) | \(.label) | \(.status)\(if (.attempts // 1) > 1 then " (" + .hessian + " fallback)" else "" end) | \(.iterations) | \(.information_collocation // "–") | \(.seconds) |"' \
+      "$out/$run/summary.json" |
+      awk -F'|' 'BEGIN { OFS = "|" } { if ($6 + 0 == $6) $6 = sprintf(" %.6g ", $6); $7 = sprintf(" %.1f ", $7); print }'
+  done
+}
 
 cat <<EOF
 # Cart-pendulum: input design and parameter estimation, end to end
@@ -33,20 +74,27 @@ cart from rest at 0 to rest at 0.5 m in 5 s within the paper's bounds. "Re-simul
 designed input on CVODES: the information the experiment really gives, and how far the states
 leave their bounds.
 
-| run | criterion | parameters | n_e × n_cp | information (collocation) | information (re-simulated) | largest bound violation | iterations | solve s |
-|---|---|---|---|---:|---:|---:|---:|---:|
+| run | criterion | parameters | n_e × n_cp | information (collocation) | information (re-simulated) | largest bound violation | iterations | solve s | Hessian |
+|---|---|---|---|---:|---:|---:|---:|---:|---|
 EOF
 for run in design design_ncp1 design_T5 design_D5 design_E5; do
   [ -f "$out/$run/summary.json" ] || continue
-  printf "| %s | %s | %s | %s × %s | %s | %s | %s (%s) | %s | %s |\n" "$run" \
+  printf "| %s | %s | %s | %s × %s | %s | %s | %s (%s) | %s | %s | %s |\n" "$run" \
     "$(j "$run" .design.criterion)" "$(j "$run" '.design.parameters | join(", ")')" \
     "$(j "$run" .collocation.n_e)" "$(j "$run" .collocation.n_cp)" \
     "$(fmt "$(j "$run" .design.information_collocation)" %.5g)" \
     "$(fmt "$(j "$run" .design.information_resimulated)" %.5g)" \
     "$(fmt "$(j "$run" .resimulation.max_bound_violation)" %.3g)" "$(j "$run" .resimulation.worst_bound)" \
-    "$(j "$run" .iterations)" "$(fmt "$(j "$run" .timings_seconds.solve)" %.1f)"
+    "$(j "$run" .iterations)" "$(fmt "$(j "$run" .timings_seconds.solve)" %.1f)" "$(hessian "$run")"
 done
 cat <<EOF
+
+Iterations are those of the kept solve (for a multistart, of the best start); the solve time is
+the wall time of the whole solve phase (every start of a multistart, on all cores; every attempt). "Hessian" is the one the kept solve used; when an
+exact-Hessian solve ended without converging, the design was solved once more with L-BFGS from the
+same start (docs/design-formulation.md, "Fallback") and both attempts are listed with their status,
+iterations and KKT residuals (primal / dual / complementarity).
+$(multistart_section)
 
 For one parameter trace F is the Fisher information of m2 itself; the Cramér–Rao bound of the
 design's 100 samples is 1/√F = $(fmt "$(j design .design.information_resimulated)" "%.5g" | awk '{ printf "%.4f", 1 / sqrt($1) }') kg.
@@ -67,19 +115,19 @@ Data: the plant simulated at m2 = 1 under the designed input (CVODES, rtol 1e-10
 sampled every 0.01 s (500 samples), white noise σ = 0.01, seed 1. Least squares by collocation
 (n_e = 500).
 
-| data | n_cp | m2 estimate | standard error | 95 % interval | χ² / dof | iterations |
-|---|---|---:|---:|---|---:|---:|
+| data | n_cp | m2 estimate | standard error | 95 % interval | χ² / dof | iterations | solve s |
+|---|---|---:|---:|---|---:|---:|---:|
 EOF
 for run in estimate estimate_exact estimate_exact_ncp1; do
   [ -f "$out/$run/summary.json" ] || continue
   case $run in estimate) data="noisy" ;; *) data="noise-free" ;; esac
   ncp=3; [ "$run" = estimate_exact_ncp1 ] && ncp=1
-  printf "| %s | %s | %s | %s | [%s, %s] | %s | %s |\n" "$data" "$ncp" \
+  printf "| %s | %s | %s | %s | [%s, %s] | %s | %s | %s |\n" "$data" "$ncp" \
     "$(fmt "$(j "$run" '.estimates[0].estimate')" %.5f)" \
     "$(fmt "$(j "$run" '.estimates[0].standard_error')" %.4f)" \
     "$(fmt "$(j "$run" '.estimates[0].ci[0]')" %.4f)" "$(fmt "$(j "$run" '.estimates[0].ci[1]')" %.4f)" \
     "$(awk -v c="$(j "$run" .chi_square)" -v d="$(j "$run" .degrees_of_freedom)" 'BEGIN { printf "%.3g", c / d }')" \
-    "$(j "$run" .iterations)"
+    "$(j "$run" .iterations)" "$(fmt "$(j "$run" .timings_seconds.solve)" %.1f)"
 done
 cat <<EOF
 
@@ -94,10 +142,13 @@ Start from the wrong guess m2 = 0.5; each round designs the input at the current
 the experiment (new noise seed) and estimates m2; it stops when the estimate moves less than its
 standard error.
 
-| round | m2 used for the design | information (re-simulated) | estimate | standard error | 95 % interval |
-|---:|---:|---:|---:|---:|---|
+| round | m2 used for the design | information (re-simulated) | estimate | standard error | 95 % interval | design iterations (solve s) | estimation iterations (solve s) |
+|---:|---:|---:|---:|---:|---|---:|---:|
 EOF
-tail -n +2 "$out/loop/loop.csv" | awk -F, '{ printf "| %d | %.4f | %.1f | %.5f | %.4f | [%.4f, %.4f] |\n", $1, $2, $3, $4, $5, $6, $7 }'
+tail -n +2 "$out/loop/loop.csv" | awk -F, '
+  function its(i, t) { return i == "" ? "–" : sprintf("%d (%.1f)", i, t) }
+  { printf "| %d | %.4f | %.1f | %.5f | %.4f | [%.4f, %.4f] | %s | %s |\n", $1, $2, $3, $4, $5, $6, $7,
+      its($8, $9), its($10, $11) }'
 cat <<EOF
 
 ## 5. Monte-Carlo check of the estimator

@@ -12,7 +12,8 @@ morun=$build/tools/morun
 cp=$root/modelica/CartPendulum
 ode=$cp/CartPendulumODE.mo
 mkdir -p "$out"
-echo "round,m2_design,information_T,m2_estimate,standard_error,ci_lo,ci_hi" > "$out/loop.csv.tmp"
+echo "round,m2_design,information_T,m2_estimate,standard_error,ci_lo,ci_hi,design_iterations,design_solve_s,estimate_iterations,estimate_solve_s" \
+  > "$out/loop.csv.tmp"
 for round in $(seq "$rounds"); do
   r=$out/round$round
   mkdir -p "$r"
@@ -31,7 +32,9 @@ for round in $(seq "$rounds"); do
   info=$(jq -r '.design.information_resimulated' "$r/design/summary.json")
   read -r est se lo hi < <(jq -r '.estimates[0] | "\(.estimate) \(.standard_error) \(.ci[0]) \(.ci[1])"' \
     "$r/estimate/summary.json")
-  echo "$round,$m2,$info,$est,$se,$lo,$hi" >> "$out/loop.csv.tmp"
+  read -r d_it d_s < <(jq -r '"\(.iterations) \(.timings_seconds.solve)"' "$r/design/summary.json")
+  read -r e_it e_s < <(jq -r '"\(.iterations) \(.timings_seconds.solve)"' "$r/estimate/summary.json")
+  echo "$round,$m2,$info,$est,$se,$lo,$hi,$d_it,$d_s,$e_it,$e_s" >> "$out/loop.csv.tmp"
   printf "loop round %d: designed at m2 = %.4f (F = %.1f), estimate %.4f +- %.4f\n" \
     "$round" "$m2" "$info" "$est" "$se"
   done=$(awk -v a="$m2" -v b="$est" -v s="$se" 'BEGIN { d = a - b; if (d < 0) d = -d; print (d < s) }')

@@ -132,6 +132,39 @@ runtime::OptimizationResult optimization_of(const json& j) {
   return r;
 }
 
+json attempts_json(const std::vector<runtime::DesignAttempt>& attempts) {
+  json a = json::array();
+  for (const auto& t : attempts)
+    a.push_back({{"hessian", static_cast<int>(t.hessian)},
+                 {"status", static_cast<int>(t.status)},
+                 {"iterations", t.iterations},
+                 {"kkt", nums(std::vector<double>{t.kkt.primal_infeasibility, t.kkt.dual_infeasibility,
+                                                  t.kkt.complementarity})},
+                 {"solve_seconds", num(t.solve_seconds)},
+                 {"information_collocation", num(t.information_collocation)},
+                 {"information_resimulated", num(t.information_resimulated)},
+                 {"kept", t.kept}});
+  return a;
+}
+
+std::vector<runtime::DesignAttempt> attempts_of(const json& j) {
+  std::vector<runtime::DesignAttempt> out;
+  for (const auto& a : j) {
+    runtime::DesignAttempt t;
+    t.hessian = static_cast<runtime::HessianMode>(a.at("hessian").get<int>());
+    t.status = static_cast<runtime::OptimizationStatus>(a.at("status").get<int>());
+    t.iterations = a.at("iterations").get<int>();
+    const auto kkt = nums(a.at("kkt"));
+    t.kkt = {kkt.at(0), kkt.at(1), kkt.at(2)};
+    t.solve_seconds = num(a.at("solve_seconds"));
+    t.information_collocation = num(a.at("information_collocation"));
+    t.information_resimulated = num(a.at("information_resimulated"));
+    t.kept = a.at("kept").get<bool>();
+    out.push_back(t);
+  }
+  return out;
+}
+
 }  // namespace
 
 json design_result_to_json(const runtime::InputDesignResult& r) {
@@ -140,7 +173,8 @@ json design_result_to_json(const runtime::InputDesignResult& r) {
           {"fisher_resimulated", matrix(r.fisher_resimulated)},
           {"information_collocation", num(r.information_collocation)},
           {"information_resimulated", num(r.information_resimulated)},
-          {"start_information", nums(r.start_information)}};
+          {"start_information", nums(r.start_information)},
+          {"attempts", attempts_json(r.attempts)}};
 }
 
 runtime::InputDesignResult design_result_from_json(const json& j) {
@@ -151,6 +185,7 @@ runtime::InputDesignResult design_result_from_json(const json& j) {
   r.information_collocation = num(j.at("information_collocation"));
   r.information_resimulated = num(j.at("information_resimulated"));
   r.start_information = nums(j.at("start_information"));
+  r.attempts = attempts_of(j.at("attempts"));
   return r;
 }
 

@@ -38,7 +38,7 @@ runtime::InputDesignProblem start_problem(const runtime::InputDesignProblem& d, 
 
 StartOutcome outcome_of(std::size_t k, const DesignStart& start, const json& j,
                         const runtime::InputDesignResult* r) {
-  StartOutcome o{k, start.origin, start.label, "error", false, 0, nan, nan, nan, 0.0, ""};
+  StartOutcome o{k, start.origin, start.label, "error", false, 0, nan, nan, nan, 0.0, "", "", 0};
   o.seconds = j.value("seconds", 0.0);
   if (!r) {
     o.error = j.value("error", std::string("no result"));
@@ -51,6 +51,9 @@ StartOutcome outcome_of(std::size_t k, const DesignStart& start, const json& j,
   o.information_collocation = r->information_collocation;
   o.information_resimulated = r->information_resimulated;
   if (!std::isfinite(o.information_collocation)) o.converged = false;
+  o.attempts = r->attempts.size();
+  for (const auto& a : r->attempts)
+    if (a.kept) o.hessian = a.hessian == runtime::HessianMode::limited_memory ? "limited_memory" : "exact";
   return o;
 }
 
@@ -160,6 +163,7 @@ json multistart_json(const MultistartResult& m, const MultistartSettings& settin
            {"information_collocation", number_json(s.information_collocation)},
            {"information_resimulated", number_json(s.information_resimulated)}, {"seconds", s.seconds}};
     if (!s.error.empty()) j["error"] = s.error;
+    if (!s.hessian.empty()) j["hessian"] = s.hessian, j["attempts"] = s.attempts;
     starts.push_back(j);
   }
   json optima = json::array();

@@ -37,6 +37,8 @@ struct StartOutcome {
   double information_resimulated = 0.0;  ///< criterion of the re-simulated F (NaN on failure)
   double seconds = 0.0;    ///< wall time of this start's solve
   std::string error;       ///< why the start produced no result (worker died, exception)
+  std::string hessian;     ///< Hessian of the kept solve: "exact" or "limited_memory"
+  std::size_t attempts = 0;  ///< solves: 2 when the limited-memory fallback ran
 };
 
 /// One local optimum: the starts that reached it (see the rule above).

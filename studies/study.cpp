@@ -248,6 +248,7 @@ int design(Study& s) {
   for (const auto& name : s.opt.parameters) d.parameters.push_back(parameter_index(s.info(), name));
   d.measurements = measurements(s, d.ocp.t0, d.ocp.tf);
   d.criterion = criterion(s.opt.criterion);
+  d.hessian_fallback = s.opt.hessian_fallback;
   const std::vector<DesignStart> starts = design_starts(s.opt, d.ocp, s.info());
   const MultistartSettings settings{s.cli.jobs, s.cli.output, s.opt.cluster_tol, s.cli.run};
   std::optional<MultistartResult> multi;

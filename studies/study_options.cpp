@@ -213,6 +213,7 @@ const std::map<std::string, Setter>& setters() {
       {"starts", starts_of()},
       {"seed", integer_of(&S::seed, 0)},
       {"cluster_tol", number_of(&S::cluster_tol)},
+      {"hessian_fallback", flag_of(&S::hessian_fallback)},
       {"data", strings_of(&S::data)},
       {"inputs", strings_of(&S::inputs)},
       {"confidence", number_of(&S::confidence)},

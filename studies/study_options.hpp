@@ -54,6 +54,7 @@ struct StudyOptions {
   int random_starts = 0;                   ///< design: starts drawn at random besides those (`starts = N`)
   int seed = 1;                            ///< design: seed of the random starts
   double cluster_tol = 1e-4;               ///< design: relative tolerance that makes two optima one
+  bool hessian_fallback = true;            ///< design: retry a failed exact-Hessian solve with L-BFGS
   std::vector<std::string> data;           ///< estimation: one measurement CSV per experiment
   std::vector<std::string> inputs;         ///< estimation: per experiment "u=SPEC;v=SPEC"
   double confidence = 0.95;                ///< estimation: confidence level

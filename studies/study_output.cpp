@@ -171,6 +171,20 @@ json design_json(const runtime::ModelInfo& info, const runtime::InputDesignProbl
   json starts = json::array();
   for (double v : r.start_information) starts.push_back(number_json(v));
   j["design"]["information_per_start"] = starts;
+  json attempts = json::array();
+  for (const auto& a : r.attempts)
+    attempts.push_back(
+        {{"hessian", a.hessian == runtime::HessianMode::limited_memory ? "limited_memory" : "exact"},
+         {"status", std::string(runtime::to_string(a.status))},
+         {"iterations", a.iterations},
+         {"kkt", {{"primal_infeasibility", number_json(a.kkt.primal_infeasibility)},
+                  {"dual_infeasibility", number_json(a.kkt.dual_infeasibility)},
+                  {"complementarity", number_json(a.kkt.complementarity)}}},
+         {"solve_seconds", a.solve_seconds},
+         {"information_collocation", number_json(a.information_collocation)},
+         {"information_resimulated", number_json(a.information_resimulated)},
+         {"kept", a.kept}});
+  j["design"]["attempts"] = attempts;
   return j;
 }
 

@@ -8,6 +8,8 @@
 #include "optimize_internal.hpp"
 
 #include <chrono>
+#include <cstdio>
+#include <filesystem>
 #include <functional>
 #include <cmath>
 #include <limits>
@@ -75,6 +77,7 @@ InputDesignResult design_once(const Model& model, const InputDesignProblem& prob
   auto fisher = lifted ? add_lifted_criterion(nlp, problem, std::move(*outputs))
                        : add_trajectory_criterion(nlp, problem);
   double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const bool exact = ocp.solver.hessian != HessianMode::limited_memory && nlp.exact_hessian_possible();
   detail::IpoptOutcome outcome = detail::solve_with_ipopt(nlp, ocp.solver);
   out.optimization = detail::collect_result(nlp, outcome, 0, ocp.path_constraints);
   out.optimization.timings.nlp_build = build;
@@ -89,6 +92,63 @@ InputDesignResult design_once(const Model& model, const InputDesignProblem& prob
   } catch (const std::runtime_error& e) {
     out.optimization.check.message += std::string(" (Fisher replay: ") + e.what() + ")";
   }
+  const OptimizationResult& o = out.optimization;
+  out.attempts = {{exact ? HessianMode::exact : HessianMode::limited_memory, o.status, o.iterations,
+                   o.kkt, o.timings.solve, out.information_collocation,
+                   out.information_resimulated, true}};
+  return out;
+}
+
+// Ends that a limited-memory solve from the same start may mend: the exact
+// Hessian's Newton steps wandered (iteration limit), or stopped short.
+bool fallback_helps(OptimizationStatus s) {
+  return s == OptimizationStatus::iteration_limit || s == OptimizationStatus::restoration_failure ||
+         s == OptimizationStatus::stalled;
+}
+
+std::string attempt_text(const DesignAttempt& a) {
+  char kkt[128];
+  std::snprintf(kkt, sizeof kkt, "primal %.2e, dual %.2e, complementarity %.2e",
+                a.kkt.primal_infeasibility, a.kkt.dual_infeasibility, a.kkt.complementarity);
+  return std::string(to_string(a.status)) + " after " + std::to_string(a.iterations) +
+         " iterations (KKT residuals: " + kkt + ")";
+}
+
+// The Ipopt log of the fallback beside the first one's: ipopt.log → ipopt_limited_memory.log.
+std::string fallback_log(const std::string& log) {
+  if (log.empty()) return log;
+  std::filesystem::path p(log);
+  return (p.parent_path() / (p.stem().string() + "_limited_memory" + p.extension().string())).string();
+}
+
+// design_once, then the limited-memory fallback when the exact solve failed
+// (docs/design-formulation.md, "Fallback"): from the same start, not from the
+// failed iterate, which after an iteration limit is often far from feasible.
+InputDesignResult design_with_fallback(const Model& model, const InputDesignProblem& problem) {
+  InputDesignResult first = design_once(model, problem);
+  const DesignAttempt& a = first.attempts.front();
+  if (!problem.hessian_fallback || a.hessian != HessianMode::exact || !fallback_helps(a.status))
+    return first;
+  InputDesignProblem lbfgs = problem;
+  lbfgs.ocp.solver.hessian = HessianMode::limited_memory;
+  lbfgs.ocp.solver.log_file = fallback_log(problem.ocp.solver.log_file);
+  InputDesignResult second = design_once(model, lbfgs);
+  const bool keep_second = second.optimization.ok();
+  InputDesignResult out = keep_second ? std::move(second) : std::move(first);
+  InputDesignResult& other = keep_second ? first : second;
+  DesignAttempt exact_attempt = keep_second ? other.attempts.front() : out.attempts.front();
+  DesignAttempt lbfgs_attempt = keep_second ? out.attempts.front() : other.attempts.front();
+  exact_attempt.kept = !keep_second, lbfgs_attempt.kept = keep_second;
+  out.attempts = {exact_attempt, lbfgs_attempt};
+  OptimizationTimings& t = out.optimization.timings;
+  const OptimizationTimings& u = other.optimization.timings;
+  t.nlp_build += u.nlp_build, t.solve += u.solve, t.function_evaluations += u.function_evaluations;
+  const std::string line = "exact Hessian ended " + attempt_text(exact_attempt) +
+                           "; limited-memory Hessian from the same start ended " +
+                           attempt_text(lbfgs_attempt) + "; kept the " +
+                           (keep_second ? "limited-memory" : "exact-Hessian") + " design";
+  out.optimization.retries.push_back(line);
+  out.optimization.message += " (" + line + ")";
   return out;
 }
 
@@ -146,7 +206,7 @@ Eigen::MatrixXd fisher_information(const Model& model, const Inputs& inputs,
 
 InputDesignResult design_input(const Model& model, const InputDesignProblem& problem) {
   try {
-    if (problem.starts.empty()) return design_once(model, problem);
+    if (problem.starts.empty()) return design_with_fallback(model, problem);
     if (problem.ocp.controls.empty())
       throw detail::ProblemError("several starts need at least one control");
     InputDesignResult best;
@@ -158,7 +218,7 @@ InputDesignResult design_input(const Model& model, const InputDesignProblem& pro
       InputDesignProblem one = problem;
       one.starts.clear();
       one.ocp.controls[0].initial_guess = start;
-      InputDesignResult r = design_once(model, one);
+      InputDesignResult r = design_with_fallback(model, one);
       reached.push_back(r.optimization.ok() ? r.information_collocation : nan);
       bool better = r.optimization.ok() &&
                     (!best.optimization.ok() || r.information_collocation > best.information_collocation);

@@ -153,11 +153,19 @@ void CollocationTnlp::finalize_solution(Ipopt::SolverReturn, Ipopt::Index n,
                                         const Ipopt::Number*, Ipopt::Index, const Ipopt::Number*,
                                         const Ipopt::Number*, Ipopt::Number obj,
                                         const Ipopt::IpoptData*,
-                                        Ipopt::IpoptCalculatedQuantities*) {
+                                        Ipopt::IpoptCalculatedQuantities* cq) {
   if (x && n == nlp_.num_variables()) {
     last_x_.assign(x, x + n);
     last_objective_ = obj;
     finalized_ = true;
+  }
+  if (!cq) return;
+  try {  // Ipopt's own unscaled max-norm residuals of its final iterate
+    kkt_.primal_infeasibility = cq->unscaled_curr_nlp_constraint_violation(Ipopt::NORM_MAX);
+    kkt_.dual_infeasibility = cq->unscaled_curr_dual_infeasibility(Ipopt::NORM_MAX);
+    kkt_.complementarity = cq->unscaled_curr_complementarity(0.0, Ipopt::NORM_MAX);
+  } catch (...) {  // no iterate to measure (e.g. a failure before the first one): stay NaN
+    kkt_ = KktResiduals{};
   }
 }
 

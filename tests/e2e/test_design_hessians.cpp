@@ -32,7 +32,8 @@ TEST_CASE("design: the lifted Fisher NLP's exact Hessian passes Ipopt's derivati
     // z = decay·x² is measured too: its sensitivity outputs have second derivatives.
     const Run r = morun(kFirstOrder + " -o " + quoted((dir / "out").string()) +
                             " --option criterion=" + criterion +
-                            " --option hessian=exact --option max_iter=2 --option n_e=8"
+                            " --option hessian=exact --option hessian_fallback=false"
+                            " --option max_iter=2 --option n_e=8"
                             " --option measurements=8 --option 'outputs={y, z}'"
                             " --option 'sigma={0.01, 0.1}' --option "
                             "'ipopt_options={\"derivative_test=second-order\", "

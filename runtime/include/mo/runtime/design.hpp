@@ -56,6 +56,24 @@ struct InputDesignProblem {
   /// Called before each of several starts with (k, number of starts, best
   /// information so far or NaN), k from 0; for progress reports. May be empty.
   std::function<void(std::size_t, std::size_t, double)> on_start;
+  /// When an exact-Hessian solve ends without converging (iteration_limit,
+  /// restoration_failure, stalled), solve once more with the limited-memory
+  /// Hessian from the same start and keep that result if it converges
+  /// (docs/design-formulation.md, "Fallback").
+  bool hessian_fallback = true;
+};
+
+/// One solve of a design from one start: the exact-Hessian solve and, after
+/// its failure, the limited-memory fallback.
+struct DesignAttempt {
+  HessianMode hessian = HessianMode::exact;  ///< exact or limited_memory (what the solve began with)
+  OptimizationStatus status = OptimizationStatus::solver_error;  ///< how it ended
+  int iterations = 0;                    ///< Ipopt iterations of its last solve
+  KktResiduals kkt;                      ///< residuals of its returned point
+  double solve_seconds = 0.0;            ///< Ipopt time, its retries included
+  double information_collocation = 0.0;  ///< criterion of its F in collocation
+  double information_resimulated = 0.0;  ///< criterion of its replayed F (NaN on failure)
+  bool kept = false;                     ///< its result is the one returned
 };
 
 /// The designed input with its Fisher information, in collocation and replayed.
@@ -66,6 +84,8 @@ struct InputDesignResult {
   double information_collocation = 0.0;  ///< criterion_information(criterion, F_coll)
   double information_resimulated = 0.0;  ///< the same for the replayed F (NaN on failure)
   std::vector<double> start_information;  ///< information reached from each start (NaN if failed)
+  /// The solves of the returned start: one, or two when the fallback ran.
+  std::vector<DesignAttempt> attempts;
 };
 
 /// The criterion as a quantity to maximise: T → trace F, D → log det F,
