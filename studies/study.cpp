@@ -390,12 +390,11 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
     scale_time(flat, *problem);
   }
   std::optional<symbolic::OdeModel> ode;
-  bool phased = false;  // optimal control on a model with events: multi-phase collocation
+  bool phased = false;  // a model with events: multi-phase collocation for every task
   {
     PhaseScope phase(cli.run, "lower", flat.name);
     if (parsed.errors.empty() && parsed.ok && problem) ode = lower_model(flat, diags);
     phased = ode && has_events(*ode);
-    if (ode && !phased && reject_events_in_study(flat, *ode, diags)) ode.reset();
     diags.print(std::cerr);  // once: warnings, or the errors that stop here
     if (!parsed.errors.empty()) return 2;
     if (!ode) return 1;

@@ -1,4 +1,4 @@
-// Refusing studies on models with events; see study_events.hpp.
+// Where a model switches, for the diagnostics of studies on models with events; see study_events.hpp.
 #include "study_events.hpp"
 
 #include <vector>
@@ -77,27 +77,6 @@ frontend::SourceRange event_source(const frontend::flat::Model& flat, std::optio
   }
   const auto [eq, relation] = first_switch(flat);
   return eq ? eq->range : relation ? relation->range : flat.optimization->range;
-}
-
-bool reject_events_in_study(const frontend::flat::Model& flat, const symbolic::OdeModel& ode,
-                            frontend::DiagnosticEngine& diags) {
-  if (ode.whens.empty() && ode.zero_crossings.empty()) return false;
-  const std::string what =
-      !ode.whens.empty()
-          ? "when " + symbolic::to_modelica(ode.arena, ode.whens.front().condition)
-          : "the relation " + symbolic::to_modelica(ode.arena, ode.zero_crossings.front()) +
-                " = 0 of an if-expression";
-  const std::string message =
-      "the model switches here (" + what + "; " + std::to_string(ode.zero_crossings.size()) +
-      (ode.zero_crossings.size() == 1 ? " event indicator" : " event indicators") +
-      " in all): optimal control, design and estimation use a collocation that "
-      "assumes a smooth model and would ignore this event; not supported yet (README, Known "
-      "limits)";
-  const auto [when, relation] = first_switch(flat);
-  const frontend::SourceRange range =
-      when ? when->range : relation ? relation->range : flat.optimization->range;
-  diags.report(frontend::DiagId::BadOptimization, range, message);
-  return true;
 }
 
 }  // namespace mo::tools

@@ -1,4 +1,4 @@
-// Studies on models with events: collocation assumes a smooth model.
+// Studies on models with events: which models switch, and where (for diagnostics).
 #pragma once
 
 #include <optional>
@@ -8,13 +8,6 @@
 #include "mo/symbolic/ode.hpp"
 
 namespace mo::tools {
-
-/// True if `ode` switches (when-clauses, or relations that are event
-/// indicators); then reports an error at the first when-clause or relation of
-/// `flat` naming it: optimal_control, design, estimation and monte_carlo
-/// solve by a collocation that would ignore the switch.
-bool reject_events_in_study(const frontend::flat::Model& flat, const symbolic::OdeModel& ode,
-                            frontend::DiagnosticEngine& diags);
 
 /// True if `ode` has when-clauses or event indicators.
 inline bool has_events(const symbolic::OdeModel& ode) { return !ode.whens.empty() || !ode.zero_crossings.empty(); }
