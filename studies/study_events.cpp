@@ -3,7 +3,6 @@
 
 #include <vector>
 
-#include "mo/symbolic/printer.hpp"
 
 namespace mo::tools {
 
