@@ -3,7 +3,6 @@
 
 #include <vector>
 
-
 namespace mo::tools {
 
 namespace {
