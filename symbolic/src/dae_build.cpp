@@ -217,7 +217,10 @@ private:
     DaeVar& d = dae_.vars[static_cast<std::size_t>(s.var)];
     d.start_given = at.start != nullptr;
     d.start = at.start ? conv_->convert(*at.start) : dae_.arena.constant(0.0);
-    d.fixed = number(at.fixed, 0.0) != 0.0;
+    // fixed = true of an Integer or Boolean variable (the MSL's friction
+    // `mode`, `startForward`) fixes pre(v) = start, which the discrete reset
+    // gives: it is not an equation of the continuous initial system.
+    d.fixed = v.type == flat::BaseType::Real && number(at.fixed, 0.0) != 0.0;
   }
 
   /// The discrete flag `initial()` reads (made on first use, start 0).
