@@ -288,7 +288,8 @@ std::string sizes(const OdeModel& m, const Program& p) {
       "nnewton = {};\n"
       "constexpr std::size_t num_slots = {}, x_slot = {}, u_slot = {}, p_slot = {}, t_slot = {}, "
       "d_slot = {}, pre_d_slot = {};\n"
-      "constexpr std::size_t npre = {};\n\n",
+      "constexpr std::size_t npre = {};\n"
+      "constexpr int initial_flag = {};  // index in the discrete variables of initial(), or -1\n\n",
       m.states.size(), m.inputs.size(), m.outputs.size(), m.parameters.size(), m.discrete.size(),
       m.zero_crossings.size(), m.whens.size(),
       [&] {
@@ -297,7 +298,7 @@ std::string sizes(const OdeModel& m, const Program& p) {
         return n;
       }(),
       p.num_slots, p.layout.states, p.layout.inputs, p.layout.parameters, p.layout.time,
-      p.layout.discrete, p.layout.pre_discrete, p.pre_copies.size());
+      p.layout.discrete, p.layout.pre_discrete, p.pre_copies.size(), m.initial_flag);
 }
 
 std::string typed_header(const OdeModel& m, const CodegenOptions& o) {

@@ -58,6 +58,7 @@ public:
     std::fill(w_.begin() + u_slot, w_.begin() + u_slot + nu, 0.0);  // the initial system sees u = 0
     section_starts();
     for (std::size_t i = 0; i < nx; ++i) x0[i] = w_[static_cast<std::size_t>(start_slots[i])];
+    if (initial_flag >= 0) initial_event(p, x0);
   }
 
   void rhs(double t, std::span<const double> x, std::span<const double> u,
@@ -149,6 +150,7 @@ public:
                                           std::span<double> x, std::span<const double> u,
                                           std::span<const double> p) override {
     load(cause.t, x, u, p);
+    if (initialising_) set_initial(0.0);  // the conditions just before initialisation
     section_steps();
     for (std::size_t k = 0; k < npre; ++k)
       w_[static_cast<std::size_t>(pre_to[k])] = w_[static_cast<std::size_t>(pre_from[k])];
@@ -166,6 +168,10 @@ public:
       before_ = now_;
     }
     event_time_ = cause.t;
+    if (initialising_) {
+      set_initial(1.0);
+      section_steps();
+    }
     conditions(cross_.data(), now_);
     mo::runtime::EventResponse response;
     double* w = w_.data();
@@ -256,6 +262,24 @@ private:
     for (std::size_t i = 0; i < nnewton; ++i) w_[static_cast<std::size_t>(newton_slots[i])] = newton_start[i];
     event_time_ = std::numeric_limits<double>::quiet_NaN();
   }
+  // The event at initialisation (t = 0, inputs 0): initial() is 1 and was
+  // 0 just before, so the clauses on it fire (in order, each seeing what the
+  // earlier ones assigned), then event iteration while discrete values change.
+  void initial_event(std::span<const double> p, std::span<double> x0) {
+    initialising_ = true;
+    event_time_ = std::numeric_limits<double>::quiet_NaN();
+    const mo::runtime::EventCause cause{0.0, {}, false};
+    for (int iteration = 0; iteration < 100; ++iteration)
+      if (!handle_event(cause, x0, {}, p).discrete_changed) break;
+    initialising_ = false;
+    set_initial(0.0);
+    event_time_ = std::numeric_limits<double>::quiet_NaN();
+  }
+  void set_initial(double v) {
+    const auto i = static_cast<std::size_t>(initial_flag);
+    w_[d_slot + i] = w_[pre_d_slot + i] = v;
+  }
+
   void reset_discrete() {
     for (std::size_t i = 0; i < nd; ++i) w_[d_slot + i] = w_[pre_d_slot + i] = discrete_start[i];
   }
@@ -297,6 +321,7 @@ private:
   std::vector<double> before_, now_;
   std::vector<char> fired_;
   double event_time_ = std::numeric_limits<double>::quiet_NaN();
+  bool initialising_ = false;
 };
 )";
 

@@ -65,6 +65,8 @@ struct Dae {
   std::vector<OdeOutput> outputs;     ///< top-level outputs: name → their variable
   std::vector<OdeOutput> eliminated;  ///< alias-eliminated variables
   std::vector<DaeWhen> whens;
+  /// Index into `discrete` of the flag `initial()` reads, or -1 (not used).
+  std::int32_t initial_flag = -1;
   /// Symbol id → DaeVar index (for Algebraic symbols made by lowering).
   std::vector<int> var_of_symbol;
 

@@ -76,6 +76,7 @@ public:
     conv_.emplace(dae_.arena, dae_.time, diags_,
                   [this](const ast::Expr& r) { return ref(r); },
                   [this](const ast::Expr& x) { return der(x); });
+    conv_->on_initial([this] { return initial_flag(); });
   }
 
   std::optional<Dae> run() {
@@ -216,11 +217,35 @@ private:
     DaeVar& d = dae_.vars[static_cast<std::size_t>(s.var)];
     d.start_given = at.start != nullptr;
     d.start = at.start ? conv_->convert(*at.start) : dae_.arena.constant(0.0);
-    d.fixed = number(at.fixed, 0.0) != 0.0;
+    // fixed = true of an Integer or Boolean variable (the MSL's friction
+    // `mode`, `startForward`) fixes pre(v) = start, which the discrete reset
+    // gives: it is not an equation of the continuous initial system.
+    d.fixed = v.type == flat::BaseType::Real && number(at.fixed, 0.0) != 0.0;
+  }
+
+  /// The discrete flag `initial()` reads (made on first use, start 0).
+  Expr initial_flag() {
+    if (dae_.initial_flag < 0) {
+      dae_.initial_flag = static_cast<std::int32_t>(dae_.discrete.size());
+      const Expr s = dae_.arena.symbol("initial()", SymbolRole::Discrete, dae_.initial_flag);
+      dae_.discrete.push_back({{"initial()", "true during initialisation", ""}, s, 0.0});
+    }
+    return dae_.discrete[static_cast<std::size_t>(dae_.initial_flag)].symbol;
+  }
+
+  /// The discrete variable `e` refers to, or a null Expr.
+  Expr discrete_ref(const ast::Expr& e) const {
+    if (e.kind != ast::ExprKind::Ref || e.var < 0) return {};
+    const Slot& s = slots_[static_cast<std::size_t>(e.var)];
+    if (s.kind != Slot::Value || dae_.arena.kind(s.value) != ExprKind::Symbol ||
+        dae_.arena.symbol_info(s.value).role != SymbolRole::Discrete)
+      return {};
+    return s.value;
   }
 
   void equation(const ast::Equation& eq);
   void initial_equations();
+  bool discrete_initial_assignment(const ast::Equation& eq);
   void if_equation(const ast::Equation& eq);
   void when_equation(const ast::Equation& eq);
   void outputs();
@@ -284,6 +309,7 @@ void Builder::initial_equations() {
                       "equation is ignored and the parameter keeps its value");
         continue;
       }
+      if (discrete_initial_assignment(eq)) continue;
       DaeEq e;
       e.residual = dae_.arena.sub(conv_->convert(*eq.lhs), conv_->convert(*eq.rhs));
       e.range = eq.range;
@@ -307,6 +333,27 @@ void Builder::initial_equations() {
     error(DiagId::UnsupportedInLowering, eq.range,
           "only simple equations (lhs = rhs) are supported in an initial equation section");
   }
+}
+
+/// `d = expr` (or `expr = d`) of a discrete variable d in an initial section
+/// (an `initial algorithm` assignment): discrete variables are not unknowns
+/// of the continuous initial system, so it becomes `when initial() then d =
+/// expr; end when`, fired by the event at initialisation in source order (a
+/// later assignment sees the value an earlier one gave).
+bool Builder::discrete_initial_assignment(const ast::Equation& eq) {
+  Expr target = discrete_ref(*eq.lhs);
+  const ast::Expr* value = eq.rhs.get();
+  if (!target.valid()) {
+    target = discrete_ref(*eq.rhs);
+    value = eq.lhs.get();
+  }
+  if (!target.valid()) return false;
+  DaeWhen w;
+  w.condition = initial_flag();
+  w.range = eq.range;
+  w.assignments.push_back({target, conv_->convert(*value)});
+  dae_.whens.push_back(std::move(w));
+  return true;
 }
 
 void Builder::if_equation(const ast::Equation& eq) {

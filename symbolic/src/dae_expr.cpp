@@ -17,7 +17,31 @@ using frontend::DiagId;
 
 namespace {
 
+/// A relation with floor(u) (or integer(u)) on one side, rewritten on u so
+/// that its event indicator crosses zero where floor(u) jumps (floor(u) - b
+/// only steps, and a root finder cannot locate a step):
+///   floor(u) > b  ⟺ u >= floor(b) + 1,   floor(u) >= b ⟺ u >= ceil(b),
+///   floor(u) < b  ⟺ u < ceil(b),         floor(u) <= b ⟺ u < floor(b) + 1.
+/// Exact for every real b (e.g. the MSL sources' integer(t/T) > pre(count)).
+Expr floor_relation(ExprArena& a, ast::Op op, Expr l, Expr r) {
+  const bool left = a.kind(l) == ExprKind::Floor, right = a.kind(r) == ExprKind::Floor;
+  if (left == right) return Expr();
+  if (right) {  // b OP floor(u) is floor(u) OP' b
+    std::swap(l, r);
+    op = op == ast::Op::Lt ? ast::Op::Gt : op == ast::Op::Le ? ast::Op::Ge
+       : op == ast::Op::Gt ? ast::Op::Lt : ast::Op::Le;
+  }
+  const Expr u = a.operand(l, 0);
+  const Expr next = a.add(a.floor(r), a.constant(1.0));
+  if (op == ast::Op::Gt) return a.ge(u, next);
+  if (op == ast::Op::Ge) return a.ge(u, a.ceil(r));
+  if (op == ast::Op::Lt) return a.lt(u, a.ceil(r));
+  return a.lt(u, next);  // Le
+}
+
 Expr binary(ExprArena& a, ast::Op op, Expr l, Expr r) {
+  if (op == ast::Op::Lt || op == ast::Op::Le || op == ast::Op::Gt || op == ast::Op::Ge)
+    if (const Expr e = floor_relation(a, op, l, r); e.valid()) return e;
   switch (op) {
   case ast::Op::Add: case ast::Op::ElemAdd: return a.add(l, r);
   case ast::Op::Sub: case ast::Op::ElemSub: return a.sub(l, r);
@@ -115,6 +139,7 @@ Expr ExprConverter::call(const ast::Expr& e) {
     if (p >= 0 && p == std::floor(p)) return a_.smooth(static_cast<int>(p), x[1]);
     return fail(e, "smooth() needs a constant order");
   }
+  if (name == "initial" && initial_) return initial_();
   if (name == "initial" || name == "terminal") return a_.constant(0.0);
   if (name == "der" && need(1)) return der_(*e.args[0]);
   if ((name == "pre" || name == "edge" || name == "change") && need(1)) {

@@ -24,6 +24,9 @@ public:
 
   /// The symbolic form of `e` (recursive over the tree; flat trees are shallow).
   Expr convert(const frontend::ast::Expr& e);
+  /// `initial()` converts to the symbol `initial` returns (the caller's
+  /// discrete flag, true only while the model initialises).
+  void on_initial(std::function<Expr()> initial) { initial_ = std::move(initial); }
   /// False once something could not be converted (and was reported).
   [[nodiscard]] bool ok() const { return ok_; }
   /// Reports `what` at e's range (once) and returns 0.
@@ -37,6 +40,7 @@ private:
   frontend::DiagnosticEngine& diags_;
   RefFn refs_;
   DerFn der_;
+  std::function<Expr()> initial_;
   bool ok_ = true;
 };
 

@@ -273,7 +273,10 @@ private:
 
 bool lower_initial_system(OdeModel& model, const InitialInput& input,
                           frontend::DiagnosticEngine& diags) {
-  if (input.equations.empty()) return true;
+  // fixed = true on a variable that is not a state (e.g. a mass's position
+  // when the relative position of a spring was chosen as the state) is an
+  // initial condition too: it replaces one state's start value.
+  if (input.equations.empty() && input.fixed_algebraics.empty()) return true;
   return InitialSystem(model, input, diags).run();
 }
 

@@ -89,9 +89,12 @@ void print_declarations(const OdeModel& m, std::string& out) {
   for (const auto& z : m.algebraics)
     out += fmt::format("  {}Real {}{}{};\n", prefix_of(m, z.symbol), modelica_name(z.info.name),
                        attributes(a, z.info, Expr(), std::nullopt), comment(z.info));
-  for (const auto& d : m.discrete)
+  for (std::size_t i = 0; i < m.discrete.size(); ++i) {
+    const OdeDiscrete& d = m.discrete[i];
+    if (static_cast<std::int32_t>(i) == m.initial_flag) continue;  // printed as initial()
     out += fmt::format("  discrete Real {}(start = {}){};\n", modelica_name(d.info.name),
                        number(d.start), comment(d.info));
+  }
   for (const auto& y : m.outputs)
     if (!is_self_output(a, y))
       out += fmt::format("  output Real {}{};\n", modelica_name(y.info.name), comment(y.info));

@@ -181,6 +181,10 @@ private:
       out_ += ')';
       return;
     }
+    if (info.role == SymbolRole::Discrete && n == "initial()") {  // the flag initial() reads
+      out_ += n;
+      return;
+    }
     out_ += modelica_name(n);
   }
 

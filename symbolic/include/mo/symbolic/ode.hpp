@@ -154,6 +154,12 @@ struct OdeModel {
   std::vector<OdeAlgebraic> initial_unknowns;  ///< the symbols initial_steps assign
   std::vector<Expr> zero_crossings; ///< event indicators: sign changes are events
   std::vector<WhenClause> whens;
+  /// Index into `discrete` of the flag `initial()` reads, or -1 when the
+  /// model does not call initial(). The flag is 0 except during the event at
+  /// initialisation (the run time's initial_state), where it is 1: when-clauses
+  /// on initial() (and the `initial algorithm` assignments of discrete
+  /// variables, lowered to such clauses) fire there.
+  std::int32_t initial_flag = -1;
 
   /// Index of the parameter named `name`, or nullopt.
   [[nodiscard]] std::optional<std::size_t> parameter_index(std::string_view name) const;

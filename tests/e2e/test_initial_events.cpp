@@ -1,0 +1,91 @@
+// Initialisation of discrete variables and fixed non-states (issue 12.5):
+// an `initial algorithm` on discrete variables (the MSL's Pulse/Trapezoid
+// sources), when-clauses on initial() with pre(v) = v.start at t0, and
+// fixed = true on variables that are not states; each against its analytic
+// solution.
+#include "e2e/support.hpp"
+#include "mo/runtime/simulate.hpp"
+
+using namespace mo;
+using namespace mo::e2e;
+
+namespace {
+
+runtime::SimulationOptions tight() {
+  runtime::SimulationOptions o;
+  o.relative_tolerance = 1e-10;
+  o.absolute_tolerance = 1e-12;
+  return o;
+}
+
+double discrete_value(runtime::Model& model, const std::string& name) {
+  const auto& d = model.info().discrete;
+  const auto it = std::find_if(d.begin(), d.end(), [&](const auto& v) { return v.name == name; });
+  INFO("discrete variable " << name);
+  REQUIRE(it != d.end());
+  return model.discrete()[static_cast<std::size_t>(it - d.begin())];
+}
+
+}  // namespace
+
+TEST_CASE("initial algorithm of discrete variables: the MSL Pulse started 2.5 periods before t0") {
+  auto model = compiled_model("e2e_initial_algorithm_pulse",
+                              {{kData + "InitialAlgorithmPulse.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  // count(0) = integer(2.5) = 2, T_start(0) = -0.5: y = 0 on [0, 0.5), 1 on [0.5, 1), ...
+  auto exact_x = [](double t) {
+    double x = 0;
+    for (double a = 0.5; a < t; a += 1.0) x += std::min(t, a + 0.5) - a;
+    return x;
+  };
+  std::vector<double> x0(model->info().states.size());
+  model->initial_state(p, x0);
+  CHECK(discrete_value(*model, "count") == 2.0);
+  CHECK(discrete_value(*model, "T_start") == -0.5);
+  const auto grid = runtime::OutputGrid::uniform(0, 2.2, 44);
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto x = column(r.trajectory, "x");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    INFO("t = " << grid.times[k]);
+    CHECK(std::fabs(x[k] - exact_x(grid.times[k])) < 1e-6);
+  }
+  CHECK(discrete_value(*model, "count") == 4.0);  // periods started at t = 0.5 and 1.5
+  CHECK(std::fabs(discrete_value(*model, "T_start") - 1.5) < 1e-8);
+}
+
+TEST_CASE("when initial() fires at t0 with pre(v) = v.start; other clauses only on their edge") {
+  auto model = compiled_model("e2e_when_initial", {{kData + "WhenInitial.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  std::vector<double> x0(model->info().states.size());
+  model->initial_state(p, x0);
+  CHECK(discrete_value(*model, "d") == 6.0);
+  CHECK(discrete_value(*model, "n") == 5.0);
+  CHECK(discrete_value(*model, "e") == 5.0);
+  const auto grid = runtime::OutputGrid::uniform(0, 1, 10);
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto x = column(r.trajectory, "x");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) CHECK(std::fabs(x[k] - 6 * grid.times[k]) < 1e-8);
+  CHECK(discrete_value(*model, "e") == 11.0);  // pre(e) + d at t = 0.5
+  CHECK(discrete_value(*model, "n") == 5.0);   // initial() fired once
+}
+
+TEST_CASE("fixed = true on variables that are not states sets the states' initial values") {
+  auto model = compiled_model("e2e_fixed_non_state", {{kData + "FixedNonState.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  const auto grid = runtime::OutputGrid::uniform(0, 0.2, 20);
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto s_rel = column(r.trajectory, "s_rel");
+  const auto v = column(r.trajectory, "v");  // the other state (v_rel = der(s_rel) = -v)
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const double t = grid.times[k], e = std::exp(-25 * t);
+    INFO("t = " << t);
+    CHECK(std::fabs(v[k] - 10 * e) < 1e-6);
+    CHECK(std::fabs(s_rel[k] - (1.5 - 0.4 * (1 - e))) < 1e-7);
+  }
+}
