@@ -280,3 +280,20 @@ TEST_CASE("report: report.html from a small study opens in headless Chromium wit
   const Chromium b = open_in_chromium(chromium, dir / "bad.html", dir / "bad");
   CHECK(console_lines(b.log).find("broken page") != std::string::npos);
 }
+
+TEST_CASE("report: mocompile shows its stages on stderr, none with --quiet") {
+  const fs::path dir = scratch("report_mocompile_progress");
+  fs::create_directories(dir);
+  const std::string mocompile = quoted(std::string(MO_BINARY_DIR) + "/tools/mocompile");
+  const std::string args = " " + kOde + " --emit cpp -o " + quoted((dir / "cpp").string());
+  const fs::path err = dir / "stderr.txt";
+  // A delay of 0.01 s makes parsing and flattening the cart-pendulum report.
+  CHECK(shell("MO_PROGRESS_SECONDS=0.01 " + mocompile + args + " 2>" + quoted(err.string())) == 0);
+  std::string text = slurp(err);
+  INFO(text);
+  CHECK(text.find("mocompile: flatten: ") != std::string::npos);
+  CHECK(text.find('\r') == std::string::npos);  // stderr is a file: plain lines only
+  CHECK(shell("MO_PROGRESS_SECONDS=0.01 " + mocompile + " --quiet" + args + " 2>" + quoted(err.string())) == 0);
+  text = slurp(err);
+  CHECK(text.empty());
+}
