@@ -254,7 +254,9 @@ private:
 
 bool lower_initial_system(OdeModel& model, const InitialInput& input,
                           frontend::DiagnosticEngine& diags) {
-  if (input.equations.empty()) return true;
+  // A variable declared fixed = true that is not a state needs the system as
+  // much as an initial equation does (v = start must hold at t0).
+  if (input.equations.empty() && input.fixed_algebraics.empty()) return true;
   return InitialSystem(model, input, diags).run();
 }
 

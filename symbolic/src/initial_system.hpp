@@ -48,7 +48,8 @@ struct InitialInput {
 
 /// Replaces the states' start expressions by the solution of the initial
 /// system and adds OdeModel::initial_steps. Does nothing without initial
-/// equations (the start values are then the initial state). Returns false
+/// equations and fixed algebraic variables (the start values are then the
+/// initial state). Returns false
 /// after reporting an over-determined or singular initial system.
 bool lower_initial_system(OdeModel& model, const InitialInput& input,
                           frontend::DiagnosticEngine& diags);
