@@ -103,6 +103,8 @@ TEST_CASE("diagram: SIGTERM to mocompile stops Scilab and removes the temporary 
 
 namespace {
 
+const fs::path kScratch = fs::path(MO_BINARY_DIR) / "e2e-scratch";
+
 /// The first and last value of column `name` of a result.csv.
 std::pair<double, double> first_last(const fs::path& csv, const std::string& name) {
   std::istringstream in(slurp(csv));
@@ -123,7 +125,8 @@ std::pair<double, double> first_last(const fs::path& csv, const std::string& nam
   return {values.front(), values.back()};
 }
 
-/// morun on a diagram whose translation (the files of `translation`) a stand-in Scilab plays.
+/// morun on a diagram whose translation (the files of `translation`) a stand-in
+/// Scilab plays, in the fresh scratch folder `name` (results in its out/).
 Run run_translated(const std::string& name, const fs::path& translation) {
   const fs::path dir = scratch(name);
   fs::create_directories(dir / "tmp");
@@ -144,7 +147,7 @@ TEST_CASE("diagram init file: a variable it fixes sets the initial state", "[dia
   REQUIRE(with.status == 0);
   CHECK(with.err.find("morun: note: the diagram's init file fixes the start value of 1 variable: FixedLag1.y") !=
         std::string::npos);
-  const auto [x0, x1] = first_last(scratch("diagram-init-fixed") / "out" / "result.csv", "FixedLag1.x");
+  const auto [x0, x1] = first_last(kScratch / "diagram-init-fixed" / "out" / "result.csv", "FixedLag1.x");
   CHECK(x0 == Approx(2.0).epsilon(1e-9));
   CHECK(x1 == Approx(2.0 * std::exp(-1.0)).epsilon(1e-5));
 
@@ -155,7 +158,7 @@ TEST_CASE("diagram init file: a variable it fixes sets the initial state", "[dia
   INFO(without.err);
   REQUIRE(without.status == 0);
   CHECK(without.err.find("init file") == std::string::npos);
-  const auto [y0, y1] = first_last(scratch("diagram-init-none") / "out" / "result.csv", "FixedLag1.x");
+  const auto [y0, y1] = first_last(kScratch / "diagram-init-none" / "out" / "result.csv", "FixedLag1.x");
   CHECK(y0 == 0.0);
   CHECK(y1 == 0.0);
 }

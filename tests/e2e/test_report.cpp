@@ -133,6 +133,15 @@ TEST_CASE("report: progress lines on stderr, none with --quiet; timings in study
   CHECK(r.err.find("objective") != std::string::npos);
   CHECK(r.err.find('\r') == std::string::npos);  // stderr is a file: plain lines only
   check_timings(dir / "loud");
+  // The design's figures, as in the paper's Figs 6-7: bounds dashed, the
+  // end-point constraints marked, the sensitivities of the measured outputs.
+  const std::string states = slurp(dir / "loud" / "states.svg");
+  CHECK(states.find("end-point target") != std::string::npos);
+  CHECK(states.find("bound") != std::string::npos);
+  CHECK(slurp(dir / "loud" / "inputs.svg").find("bound") != std::string::npos);
+  CHECK(fs::exists(dir / "loud" / "sensitivities.svg"));
+  const std::string plot_script = slurp(dir / "loud" / "states.gp");
+  CHECK(plot_script.find("dt 2") != std::string::npos);  // dashed bounds
   const json s = json::parse(slurp(dir / "loud" / "summary.json"));
   CHECK(s["timings_seconds"].contains("ipopt"));  // the runtime's own solver time is kept
 
