@@ -223,7 +223,7 @@ int main(int argc, char **argv) {
       mo::tools::PhaseScope phase(&ctx, "diagram", opt.input);
       diagram = mo::tools::extract_flat_model(opt.input, opt.diagram);
       opt.input = diagram->flat_file().string();
-      opt.init_file = diagram->init_file().string();
+      if (opt.diagram.init_fixed) opt.init_file = diagram->init_file().string();
       opt.from_diagram = true;
     }
     return run(opt, ctx);

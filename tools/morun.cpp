@@ -329,7 +329,7 @@ int main(int argc, char** argv) {
       tools::PhaseScope phase(&ctx, "diagram", opt.source.file);
       diagram = tools::extract_flat_model(opt.source.file, opt.diagram);
       opt.source.file = diagram->flat_file().string();
-      opt.init_file = diagram->init_file().string();
+      if (opt.diagram.init_fixed) opt.init_file = diagram->init_file().string();
       opt.from_diagram = true;
     }
     return run(opt, ctx);

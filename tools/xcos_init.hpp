@@ -6,7 +6,8 @@
 // (a Coselica mass's position, a Modelica generic block's "fixed state") loses
 // the flag in the flat .mo.
 //
-// Applied as Scilab's initialisation (Modelica 3 §8.6) reads it: a variable
+// Applied with --init-fixed as Scilab's initialisation dialog (and Modelica 3
+// §8.6) reads it: a variable
 // whose flag is "true" gets fixed = true (an initial equation v = start).
 // Parameters are left alone: Scilab writes fixed = false on every block
 // parameter for its initialisation dialog, and with no initial equation to

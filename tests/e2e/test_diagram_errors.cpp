@@ -127,11 +127,13 @@ std::pair<double, double> first_last(const fs::path& csv, const std::string& nam
 
 /// morun on a diagram whose translation (the files of `translation`) a stand-in
 /// Scilab plays, in the fresh scratch folder `name` (results in its out/).
-Run run_translated(const std::string& name, const fs::path& translation) {
+Run run_translated(const std::string& name, const fs::path& translation, bool init_fixed = true) {
   const fs::path dir = scratch(name);
   fs::create_directories(dir / "tmp");
-  const Run r = run_tool(kMorun, {(kData / "SeriesRLC.zcos").string(), "--stop-time", "1", "--rtol", "1e-9", "--atol",
-                                  "1e-12", "-o", (dir / "out").string()},
+  std::vector<std::string> args{(kData / "SeriesRLC.zcos").string(), "--stop-time", "1", "--rtol", "1e-9", "--atol",
+                                "1e-12", "-o", (dir / "out").string()};
+  if (init_fixed) args.push_back("--init-fixed");
+  const Run r = run_tool(kMorun, args,
                          dir, {"MO_SCILAB=" + (kData / "translating-scilab.sh").string(), "DISPLAY=:0",
                                "MO_FAKE_TRANSLATION=" + translation.string(), "TMPDIR=" + (dir / "tmp").string()});
   CHECK(fs::is_empty(dir / "tmp"));
@@ -140,9 +142,10 @@ Run run_translated(const std::string& name, const fs::path& translation) {
 
 }  // namespace
 
-TEST_CASE("diagram init file: a variable it fixes sets the initial state", "[diagram]") {
+TEST_CASE("diagram init file: with --init-fixed a variable it fixes sets the initial state", "[diagram]") {
   // FixedLag: der(x) = -x, y = 2 x; the flat .mo gives x start 0 and y start 4,
-  // the init file says y is fixed: x(0) = 2, x(1) = 2/e. Without it x stays 0.
+  // the init file says y is fixed: x(0) = 2, x(1) = 2/e. Without --init-fixed
+  // (as Scilab's simulation) or without the file, x stays 0.
   const Run with = run_translated("diagram-init-fixed", kData / "init");
   INFO(with.err);
   REQUIRE(with.status == 0);
@@ -155,6 +158,11 @@ TEST_CASE("diagram init file: a variable it fixes sets the initial state", "[dia
   const fs::path bare = scratch("diagram-init-none-files");
   fs::create_directories(bare);
   fs::copy_file(kData / "init" / "FixedLag_imf.mo", bare / "FixedLag_imf.mo", fs::copy_options::overwrite_existing);
+  const Run ignored = run_translated("diagram-init-ignored", kData / "init", false);
+  INFO(ignored.err);
+  REQUIRE(ignored.status == 0);
+  CHECK(ignored.err.find("init file") == std::string::npos);
+  CHECK(first_last(kScratch / "diagram-init-ignored" / "out" / "result.csv", "FixedLag1.x").first == 0.0);
   const Run without = run_translated("diagram-init-none", bare);
   INFO(without.err);
   REQUIRE(without.status == 0);

@@ -244,15 +244,15 @@ TEST_CASE("a diagram without Modelica blocks: error", "[diagram][scilab]") {
   CHECK(r.err.find("NoModelica.zcos: error: the diagram has no Modelica blocks") != std::string::npos);
 }
 
-TEST_CASE("morun FixedInit.zcos: the init file's fixed flag sets the initial state", "[diagram][scilab]") {
+TEST_CASE("morun FixedInit.zcos --init-fixed: the init file's fixed flag sets the initial state", "[diagram][scilab]") {
   REQUIRE_SCILAB();
   // A Modelica generic block: der(x) = -x, y = 2 x, x start 0, y a fixed state
   // with start 4 (make_diagrams.sce). Only the init file says y is fixed, so
   // x(0) = 2. (Scilab 6.1.1's own simulation of this diagram, measured, keeps
   // x = 0: it does not read the init file.)
   const fs::path dir = scratch("diagram-fixed-init");
-  const Run r = run_tool(kMorun, {(kData / "FixedInit.zcos").string(), "--stop-time", "1", "--rtol", "1e-9", "--atol",
-                                  "1e-12", "-o", (dir / "out").string()}, dir);
+  const Run r = run_tool(kMorun, {(kData / "FixedInit.zcos").string(), "--init-fixed", "--stop-time", "1", "--rtol",
+                                  "1e-9", "--atol", "1e-12", "-o", (dir / "out").string()}, dir);
   INFO(r.err);
   REQUIRE(r.status == 0);
   CHECK(r.err.find("morun: note: the diagram's init file fixes the start value of 1 variable: FixedLag1.y") !=
