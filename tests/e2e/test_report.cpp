@@ -296,13 +296,15 @@ TEST_CASE("report: mocompile shows its stages on stderr, none with --quiet") {
   const std::string mocompile = quoted(std::string(MO_BINARY_DIR) + "/tools/mocompile");
   const std::string args = " " + kOde + " --emit cpp -o " + quoted((dir / "cpp").string());
   const fs::path err = dir / "stderr.txt";
-  // A delay of 0.01 s makes parsing and flattening the cart-pendulum report.
-  CHECK(shell("MO_PROGRESS_SECONDS=0.01 " + mocompile + args + " 2>" + quoted(err.string())) == 0);
+  // A delay of 1 ms makes the stages of the cart-pendulum report (at least
+  // one of them: the heartbeat thread may be scheduled late on a loaded machine).
+  CHECK(shell("MO_PROGRESS_SECONDS=0.001 " + mocompile + args + " 2>" + quoted(err.string())) == 0);
   std::string text = slurp(err);
   INFO(text);
-  CHECK(text.find("mocompile: flatten: ") != std::string::npos);
+  CHECK((text.find("mocompile: flatten: ") != std::string::npos || text.find("mocompile: lower: ") != std::string::npos ||
+         text.find("mocompile: generate: ") != std::string::npos));
   CHECK(text.find('\r') == std::string::npos);  // stderr is a file: plain lines only
-  CHECK(shell("MO_PROGRESS_SECONDS=0.01 " + mocompile + " --quiet" + args + " 2>" + quoted(err.string())) == 0);
+  CHECK(shell("MO_PROGRESS_SECONDS=0.001 " + mocompile + " --quiet" + args + " 2>" + quoted(err.string())) == 0);
   text = slurp(err);
   CHECK(text.empty());
 }
