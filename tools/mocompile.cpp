@@ -8,6 +8,8 @@
 #include "mo/runtime/result.hpp"
 #include "mo/symbolic/lower.hpp"
 #include "pipeline.hpp"
+#include "progress.hpp"
+#include "xcos_init.hpp"
 #include "diagram_cli.hpp"
 
 #include <CLI/CLI.hpp>
@@ -16,6 +18,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 
 namespace fs = std::filesystem;
 using namespace mo::frontend;
@@ -35,23 +38,34 @@ struct Options {
   std::size_t cpp_files = 0;               // --emit cpp: exact number of part files (0: as needed)
   mo::tools::DiagramOptions diagram;       // FILE is an Xcos diagram: how to run Scilab
   bool from_diagram = false;               // input is the flat file Scilab wrote for it
+  bool quiet = false;                      // no progress on stderr
+  std::string init_file;                   // the diagram's <title>_imf_init.xml, or empty
 };
 
 /// Lowers, printing the stage trace for --emit trace, and appends the
 /// requested sensitivities; nullopt after printing the errors, with `status`
 /// set to 1 (errors in the model) or 2 (an unknown --sensitivities name).
 std::optional<mo::symbolic::OdeModel> lowered(const flat::Model &model, DiagnosticEngine &diags,
-                                              const Options &opt, int &status) {
+                                              const Options &opt, int &status, mo::tools::RunContext &ctx) {
   status = 1;
   std::string trace;
-  auto ode = mo::tools::lower_model(model, diags, opt.emit == "trace" ? &trace : nullptr);
+  std::optional<mo::symbolic::OdeModel> ode;
+  {
+    mo::tools::PhaseScope phase(&ctx, "lower", model.name);
+    ode = mo::tools::lower_model(model, diags, opt.emit == "trace" ? &trace : nullptr);
+  }
   std::cout << trace;
   if (!ode) {
     diags.print(std::cerr);
     return std::nullopt;
   }
   mo::tools::expose_start_parameters(*ode, opt.sensitivities);  // x.start
-  if (auto error = mo::tools::add_named_sensitivities(*ode, opt.sensitivities); !error.empty()) {
+  std::string error;
+  {
+    mo::tools::PhaseScope phase(&ctx, "sensitivities", model.name);
+    error = mo::tools::add_named_sensitivities(*ode, opt.sensitivities);
+  }
+  if (!error.empty()) {
     std::cerr << "mocompile: error: " << error << "\n";
     status = 2;  // a command-line mistake, as in morun
     return std::nullopt;
@@ -61,11 +75,14 @@ std::optional<mo::symbolic::OdeModel> lowered(const flat::Model &model, Diagnost
 
 /// --emit cpp: generate C++ and write the files into the directory
 /// opt.output (each file atomically).
-int emit_cpp(mo::symbolic::OdeModel &ode, DiagnosticEngine &diags, const Options &opt) {
+int emit_cpp(mo::symbolic::OdeModel &ode, DiagnosticEngine &diags, const Options &opt,
+             mo::tools::RunContext &ctx) {
+  std::optional<mo::tools::PhaseScope> phase(std::in_place, &ctx, "generate", opt.cpp_name);
   mo::codegen::CodegenOptions co;
   co.name = opt.cpp_name;
   co.part_files = opt.cpp_files;
   const auto sources = mo::codegen::generate_cpp(ode, co);
+  phase.reset();
   diags.print(std::cerr);  // warnings
   fs::create_directories(opt.output);
   for (const auto &file : sources.files)
@@ -74,13 +91,15 @@ int emit_cpp(mo::symbolic::OdeModel &ode, DiagnosticEngine &diags, const Options
   return 0;
 }
 
-int run(const Options &opt) {
+int run(const Options &opt, mo::tools::RunContext &ctx) {
+  std::optional<mo::tools::PhaseScope> parsing(std::in_place, &ctx, "flatten", opt.input);
   SourceManager sources;
   DiagnosticEngine diags(sources, opt.max_errors);
   Library lib;
   mo::tools::load_libraries(lib, opt.libs, opt.input, sources, diags);
   auto main_file = parse_file(opt.input, sources, diags);
   if (!main_file || diags.has_errors()) {
+    parsing.reset();
     diags.print(std::cerr);
     return 1;
   }
@@ -92,29 +111,34 @@ int run(const Options &opt) {
   }
   if (opt.emit == "ast") {
     text = ast::dump(*main_file);
+    parsing.reset();
   } else {
     lib.add(std::move(main_file));
     FlattenOptions fo;
     fo.check_balance = !opt.no_balance_check;
     auto model = flatten(lib, class_name, diags, fo);
+    parsing.reset();
     if (!model) {
       diags.print(std::cerr);
       return 1;
     }
-    if (opt.from_diagram)
+    if (opt.from_diagram) {
+      if (const auto note = mo::tools::apply_diagram_init(*model, opt.init_file, "mocompile"); !note.empty())
+        std::cerr << note << "\n";
       if (const auto note = mo::tools::diagram_inputs_note(*model, "mocompile"); !note.empty())
         std::cerr << note << "\n";
+    }
     if (opt.emit == "flat") {
       text = model->print();
     } else {
       int status = 0;
-      auto ode = lowered(*model, diags, opt, status);
+      auto ode = lowered(*model, diags, opt, status, ctx);
       if (!ode) return status;
       if (opt.emit != "cpp") {
         text = mo::symbolic::print_ode(*ode);
       } else {
         try {
-          return emit_cpp(*ode, diags, opt);
+          return emit_cpp(*ode, diags, opt, ctx);
         } catch (const std::exception &e) {
           std::cerr << "mocompile: error: " << e.what() << "\n";
           return 1;
@@ -174,6 +198,8 @@ int main(int argc, char **argv) {
       ->delimiter(',');
   app.add_flag("--no-balance-check", opt.no_balance_check,
                "Do not check that the model has as many equations as unknowns");
+  app.add_flag("-q,--quiet", opt.quiet,
+               "No progress on stderr (by default a stage longer than 2 s reports itself, at most once a second)");
   app.add_option("--max-errors", opt.max_errors, "Stop listing errors after this many")->capture_default_str();
   mo::tools::add_diagram_options(app, opt.diagram);
   try {
@@ -187,14 +213,20 @@ int main(int argc, char **argv) {
     std::cerr << "mocompile: error: --emit cpp needs -o DIR\n";
     return 2;
   }
+  mo::tools::Progress progress(std::cerr, mo::tools::stderr_progress_options(opt.quiet, "mocompile"));
+  mo::tools::RunContext ctx;
+  ctx.progress = &progress;
   std::unique_ptr<mo::tools::ExtractedDiagram> diagram;  // its temporary folder lives until the end
   try {
     if (mo::tools::is_diagram_file(opt.input)) {
+      opt.diagram.quiet = true;  // the progress line shows the "diagram" stage
+      mo::tools::PhaseScope phase(&ctx, "diagram", opt.input);
       diagram = mo::tools::extract_flat_model(opt.input, opt.diagram);
       opt.input = diagram->flat_file().string();
+      if (opt.diagram.init_fixed) opt.init_file = diagram->init_file().string();
       opt.from_diagram = true;
     }
-    return run(opt);
+    return run(opt, ctx);
   } catch (const mo::tools::DiagramError &e) {
     std::cerr << e.what() << "\n";
     return 1;

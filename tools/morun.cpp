@@ -28,6 +28,7 @@
 #include "failure_diagnosis.hpp"
 #include "plot.hpp"
 #include "progress.hpp"
+#include "xcos_init.hpp"
 #include "result_columns.hpp"
 #include "parallel_runner.hpp"
 #include "study.hpp"
@@ -58,6 +59,7 @@ struct Options {
   bool quiet = false;                // no progress on stderr
   tools::DiagramOptions diagram;     // FILE is an Xcos diagram: how to run Scilab
   bool from_diagram = false;         // source.file is the flat file Scilab wrote for it
+  std::string init_file;             // the diagram's <title>_imf_init.xml, or empty
 };
 
 using tools::number;
@@ -153,8 +155,11 @@ int run(const Options& opt, tools::RunContext& ctx) {
     diags.print(std::cerr);
     return 1;
   }
-  if (opt.from_diagram)
+  if (opt.from_diagram) {
+    if (const auto note = tools::apply_diagram_init(*flat, opt.init_file, "morun"); !note.empty())
+      std::cerr << note << "\n";
     if (const auto note = tools::diagram_inputs_note(*flat, "morun"); !note.empty()) std::cerr << note << "\n";
+  }
   if (flat->optimization) {
     for (const auto& [given, flag] : {std::pair{opt.stop_time > 0, "--stop-time"},
                                       {!opt.input_specs.empty(), "--input"},
@@ -324,6 +329,7 @@ int main(int argc, char** argv) {
       tools::PhaseScope phase(&ctx, "diagram", opt.source.file);
       diagram = tools::extract_flat_model(opt.source.file, opt.diagram);
       opt.source.file = diagram->flat_file().string();
+      if (opt.diagram.init_fixed) opt.init_file = diagram->init_file().string();
       opt.from_diagram = true;
     }
     return run(opt, ctx);

@@ -31,6 +31,7 @@ struct DiagramOptions {
   std::string save_dir;                ///< --save-flat: also copy Scilab's files here
   std::string tool = "mocompile";      ///< prefix of progress lines
   bool quiet = false;                  ///< no progress line
+  bool init_fixed = false;             ///< --init-fixed: apply the init file's fixed flags (xcos_init.hpp)
 };
 
 /// Why a diagram gave no flat model; the message is complete (it starts with

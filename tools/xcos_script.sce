@@ -96,6 +96,41 @@ function [guis, models] = mo_blocks(diagram)
     end
 endfunction
 
+// The toolboxes found in the install folders of Scilab's toolbox manager
+// (ATOMS): SCIHOME/atoms/<name>/<version>/ (a user's install) and
+// SCI/contrib/<name>/<version>/ (all users), those with a loader.sce; of a
+// toolbox with several versions, the last in sorted order. Toolboxes already
+// loaded are skipped. Found from the folders, not from ATOMS's database, so a
+// toolbox unpacked there by hand is found too.
+function loaders = mo_atoms_loaders()
+    loaders = [];
+    roots = [SCIHOME + "/atoms"; SCI + "/contrib"];
+    for r = 1:size(roots, "*")
+        if ~isdir(roots(r)) then
+            continue;
+        end
+        names = gsort(findfiles(roots(r)), "g", "i");
+        for n = 1:size(names, "*")
+            loaded = %f;
+            try
+                loaded = atomsIsLoaded(names(n));
+            catch
+            end
+            if loaded | ~isdir(roots(r) + "/" + names(n)) then
+                continue;
+            end
+            versions = gsort(findfiles(roots(r) + "/" + names(n)), "g", "d");
+            for v = 1:size(versions, "*")
+                candidate = roots(r) + "/" + names(n) + "/" + versions(v) + "/loader.sce";
+                if isfile(candidate) then
+                    loaders = [loaders; candidate];
+                    break;
+                end
+            end
+        end
+    end
+endfunction
+
 function missing = mo_missing(guis)
     missing = [];
     for k = 1:size(guis, "*")
@@ -160,6 +195,19 @@ try
             end
         catch
             mprintf("mocompile: loading the ATOMS toolboxes failed: %s\n", lasterror());
+        end
+    end
+    if mo_missing(guis) <> [] then
+        // Toolboxes in ATOMS's install folders that its database does not
+        // list (or that atomsLoad could not load), loaded here at the top level.
+        mo_loaders = mo_atoms_loaders();
+        for k = 1:size(mo_loaders, "*")
+            mprintf("mocompile: loading the toolbox %s\n", mo_loaders(k));
+            try
+                exec(mo_loaders(k), -1);
+            catch
+                mprintf("mocompile: loading %s failed: %s\n", mo_loaders(k), lasterror());
+            end
         end
     end
     missing = mo_missing(guis);

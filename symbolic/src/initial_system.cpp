@@ -23,7 +23,10 @@ namespace {
 enum class RowKind {
   Model,     ///< a residual of the model's steps
   Initial,   ///< an initial equation
-  Fixed,     ///< v = start of a variable declared fixed = true
+  Fixed,     ///< x = start of a state declared fixed = true
+  FixedAlgebraic, ///< v = start of another variable declared fixed = true: used
+                  ///< when the system admits it (before any StartGuess), else
+                  ///< dropped with a warning
   StartGuess ///< x = start of a state, used only if the system needs it
 };
 
@@ -86,13 +89,17 @@ private:
       rows_.push_back({a_.sub(x.symbol, x.start), k, x.info.name + " = its start value", {}, i});
     }
     for (const auto& [v, start] : in_.fixed_algebraics)
-      rows_.push_back({a_.sub(v, start), RowKind::Fixed,
+      rows_.push_back({a_.sub(v, start), RowKind::FixedAlgebraic,
                        a_.symbol_info(v).name + " = its start value (fixed = true)", {}, 0});
   }
 
-  /// Required rows first (cost 0), then the optional x = start (cost 1),
-  /// last (cost 2) those of states the initial equations mention (x or
-  /// der(x)): an initial equation about x is meant to determine x.
+  /// Required rows first (cost 0), then the fixed = true of variables that
+  /// are not states (cost 1: a flag on a variable that index reduction left
+  /// without a state of its own, e.g. a body's velocity fixed beside the
+  /// joint's, may over-determine the system; it then gives way), then the
+  /// optional x = start (cost 2), last (cost 3) those of states the initial
+  /// equations mention (x or der(x)): an initial equation about x is meant to
+  /// determine x.
   std::vector<int> match() {
     std::unordered_set<Expr, ExprHash> mentioned;
     for (const InitialEquation& e : in_.equations)
@@ -101,9 +108,10 @@ private:
     for (const Row& r : rows_) {
       std::vector<CostEdge> row;
       int cost = 0;
+      if (r.kind == RowKind::FixedAlgebraic) cost = 1;
       if (r.kind == RowKind::StartGuess) {
         const OdeState& x = m_.states[r.state];
-        cost = mentioned.contains(x.symbol) || mentioned.contains(x.derivative) ? 2 : 1;
+        cost = mentioned.contains(x.symbol) || mentioned.contains(x.derivative) ? 3 : 2;
       }
       for (Expr l : leaves(a_, std::span(&r.residual, 1)))
         if (auto it = local_.find(l); it != local_.end()) row.push_back({it->second, cost});
@@ -115,8 +123,12 @@ private:
   /// Every required row and every unknown matched, else a diagnostic.
   bool check(const std::vector<int>& col_of) {
     std::vector<const Row*> over;
-    for (std::size_t r = 0; r < rows_.size(); ++r)
-      if (col_of[r] < 0 && rows_[r].kind != RowKind::StartGuess) over.push_back(&rows_[r]);
+    std::vector<const Row*> dropped;
+    for (std::size_t r = 0; r < rows_.size(); ++r) {
+      if (col_of[r] >= 0 || rows_[r].kind == RowKind::StartGuess) continue;
+      (rows_[r].kind == RowKind::FixedAlgebraic ? dropped : over).push_back(&rows_[r]);
+    }
+    report_dropped(dropped);
     if (!over.empty()) {
       report_overdetermined(over);
       return false;
@@ -153,8 +165,28 @@ private:
       diags_.note(at, "states declared fixed = true (each adds x = start): " + fixed);
   }
 
-  /// OpenModelica's note for an under-determined initial system.
+  /// The fixed = true flags of variables that are not states which the
+  /// system could not admit beside the required rows.
+  void report_dropped(const std::vector<const Row*>& dropped) {
+    if (dropped.empty()) return;
+    std::string names;
+    for (std::size_t i = 0; i < dropped.size() && i < 10; ++i) {
+      const std::string& o = dropped[i]->origin;
+      names += (i ? ", " : "") + o.substr(0, o.find(" = its start value"));
+    }
+    if (dropped.size() > 10) names += fmt::format(", ... ({} variables)", dropped.size());
+    diags_.report(DiagId::InitialStartFixed, first_initial_range(),
+                  fmt::format("{} variable(s) declared fixed = true are not states and the initial system, "
+                              "with the states' fixed values and the initial equations, leaves them no "
+                              "unknown: their start values are not imposed: {}",
+                              dropped.size(), names));
+  }
+
+  /// OpenModelica's note for an under-determined initial system (not
+  /// without initial equations: the states then start at their start values
+  /// as in any simulation).
   void warn_free_states(const std::vector<int>& col_of) {
+    if (in_.equations.empty()) return;
     std::string names;
     std::size_t n = 0;
     for (std::size_t r = 0; r < rows_.size(); ++r)

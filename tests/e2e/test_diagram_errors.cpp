@@ -1,9 +1,14 @@
 // Issue 14, diagrams in, without Scilab: the diagnostics when Scilab is
 // missing, fails or hangs (a stand-in program plays Scilab), and that the
-// temporary folder is removed in every case.
+// temporary folder is removed in every case; and the init file Scilab's
+// translator writes (another stand-in plays the translator): the fixed flags it
+// holds change the initial state, and malformed XML is an error.
 #include <catch2/catch.hpp>
 
 #include <chrono>
+#include <cmath>
+#include <fstream>
+#include <sstream>
 
 #include "e2e/diagram_cli.hpp"
 
@@ -94,4 +99,94 @@ TEST_CASE("diagram: SIGTERM to mocompile stops Scilab and removes the temporary 
   CHECK(text.find("SeriesRLC.zcos: error: interrupted; Scilab was stopped") != std::string::npos);
   CHECK(seconds < 20.0);
   CHECK(fs::is_empty(dir / "tmp"));
+}
+
+namespace {
+
+const fs::path kScratch = fs::path(MO_BINARY_DIR) / "e2e-scratch";
+
+/// The first and last value of column `name` of a result.csv.
+std::pair<double, double> first_last(const fs::path& csv, const std::string& name) {
+  std::istringstream in(slurp(csv));
+  std::string line;
+  std::getline(in, line);
+  std::size_t col = 0, found = std::string::npos;
+  for (std::istringstream header(line); std::getline(header, line, ','); ++col)
+    if (line == name) found = col;
+  REQUIRE(found != std::string::npos);
+  std::vector<double> values;
+  while (std::getline(in, line)) {
+    std::istringstream row(line);
+    std::string cell;
+    for (std::size_t c = 0; std::getline(row, cell, ','); ++c)
+      if (c == found) values.push_back(std::stod(cell));
+  }
+  REQUIRE(!values.empty());
+  return {values.front(), values.back()};
+}
+
+/// morun on a diagram whose translation (the files of `translation`) a stand-in
+/// Scilab plays, in the fresh scratch folder `name` (results in its out/).
+Run run_translated(const std::string& name, const fs::path& translation, bool init_fixed = true) {
+  const fs::path dir = scratch(name);
+  fs::create_directories(dir / "tmp");
+  std::vector<std::string> args{(kData / "SeriesRLC.zcos").string(), "--stop-time", "1", "--rtol", "1e-9", "--atol",
+                                "1e-12", "-o", (dir / "out").string()};
+  if (init_fixed) args.push_back("--init-fixed");
+  const Run r = run_tool(kMorun, args,
+                         dir, {"MO_SCILAB=" + (kData / "translating-scilab.sh").string(), "DISPLAY=:0",
+                               "MO_FAKE_TRANSLATION=" + translation.string(), "TMPDIR=" + (dir / "tmp").string()});
+  CHECK(fs::is_empty(dir / "tmp"));
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("diagram init file: with --init-fixed a variable it fixes sets the initial state", "[diagram]") {
+  // FixedLag: der(x) = -x, y = 2 x; the flat .mo gives x start 0 and y start 4,
+  // the init file says y is fixed: x(0) = 2, x(1) = 2/e. Without --init-fixed
+  // (as Scilab's simulation) or without the file, x stays 0.
+  const Run with = run_translated("diagram-init-fixed", kData / "init");
+  INFO(with.err);
+  REQUIRE(with.status == 0);
+  CHECK(with.err.find("morun: note: the diagram's init file fixes the start value of 1 variable: FixedLag1.y") !=
+        std::string::npos);
+  const auto [x0, x1] = first_last(kScratch / "diagram-init-fixed" / "out" / "result.csv", "FixedLag1.x");
+  CHECK(x0 == Approx(2.0).epsilon(1e-9));
+  CHECK(x1 == Approx(2.0 * std::exp(-1.0)).epsilon(1e-6));
+
+  const fs::path bare = scratch("diagram-init-none-files");
+  fs::create_directories(bare);
+  fs::copy_file(kData / "init" / "FixedLag_imf.mo", bare / "FixedLag_imf.mo", fs::copy_options::overwrite_existing);
+  const Run ignored = run_translated("diagram-init-ignored", kData / "init", false);
+  INFO(ignored.err);
+  REQUIRE(ignored.status == 0);
+  CHECK(ignored.err.find("init file") == std::string::npos);
+  CHECK(first_last(kScratch / "diagram-init-ignored" / "out" / "result.csv", "FixedLag1.x").first == 0.0);
+  const Run without = run_translated("diagram-init-none", bare);
+  INFO(without.err);
+  REQUIRE(without.status == 0);
+  CHECK(without.err.find("init file") == std::string::npos);
+  const auto [y0, y1] = first_last(kScratch / "diagram-init-none" / "out" / "result.csv", "FixedLag1.x");
+  CHECK(y0 == 0.0);
+  CHECK(y1 == 0.0);
+}
+
+TEST_CASE("diagram init file: malformed XML or a DTD is an error with its line", "[diagram]") {
+  const fs::path bad = scratch("diagram-init-bad-files");
+  fs::create_directories(bad);
+  fs::copy_file(kData / "init" / "FixedLag_imf.mo", bad / "FixedLag_imf.mo", fs::copy_options::overwrite_existing);
+  std::ofstream(bad / "FixedLag_imf_init.xml") << "<model>\n<terminal>\n<id>x</kind>\n</model>\n";
+  const Run r = run_translated("diagram-init-bad", bad);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("FixedLag_imf_init.xml:3: error: mismatched tag") != std::string::npos);
+
+  std::ofstream(bad / "FixedLag_imf_init.xml")
+      << "<?xml version=\"1.0\"?>\n<!DOCTYPE model [<!ENTITY a \"aaaa\">]>\n<model>&a;</model>\n";
+  const Run dtd = run_translated("diagram-init-dtd", bad);
+  INFO(dtd.err);
+  CHECK(dtd.status == 1);
+  CHECK(dtd.err.find("FixedLag_imf_init.xml:2: error: a document type declaration (DTD) is not expected") !=
+        std::string::npos);
 }

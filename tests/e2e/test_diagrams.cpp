@@ -11,6 +11,10 @@
 //   - A Coselica diagram without Coselica: a diagnostic says what to install;
 //     with MO_COSELICA_DIR (a Coselica toolbox or source folder) its flat model
 //     equals the corpus's.
+//   - FixedInit (a Modelica generic block with a fixed state): the init file's
+//     fixed flag changes the initial state (x(0) = 2, not the start 0).
+//   - ToolboxDecay (a block of the test library toolbox/): unknown in a fresh
+//     HOME, found once laid out as ATOMS installs it in SCIHOME/atoms.
 #include <catch2/catch.hpp>
 
 #include <cmath>
@@ -238,4 +242,63 @@ TEST_CASE("a diagram without Modelica blocks: error", "[diagram][scilab]") {
   INFO(r.err);
   CHECK(r.status == 1);
   CHECK(r.err.find("NoModelica.zcos: error: the diagram has no Modelica blocks") != std::string::npos);
+}
+
+TEST_CASE("morun FixedInit.zcos --init-fixed: the init file's fixed flag sets the initial state", "[diagram][scilab]") {
+  REQUIRE_SCILAB();
+  // A Modelica generic block: der(x) = -x, y = 2 x, x start 0, y a fixed state
+  // with start 4 (make_diagrams.sce). Only the init file says y is fixed, so
+  // x(0) = 2. (Scilab 6.1.1's own simulation of this diagram, measured, keeps
+  // x = 0: it does not read the init file.)
+  const fs::path dir = scratch("diagram-fixed-init");
+  const Run r = run_tool(kMorun, {(kData / "FixedInit.zcos").string(), "--init-fixed", "--stop-time", "1", "--rtol",
+                                  "1e-9", "--atol", "1e-12", "-o", (dir / "out").string()}, dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.err.find("morun: note: the diagram's init file fixes the start value of 1 variable: FixedLag1.y") !=
+        std::string::npos);
+  const auto [times, x] = csv_column(dir / "out" / "result.csv", "FixedLag1.x");
+  REQUIRE(!x.empty());
+  CHECK(times.front() == 0.0);
+  CHECK(x.front() == Approx(2.0).epsilon(1e-9));
+  CHECK(x.back() == Approx(2.0 * std::exp(-1.0)).epsilon(1e-6));
+}
+
+TEST_CASE("a block library installed in SCIHOME's ATOMS folder is found without --scilab-lib", "[diagram][scilab]") {
+  REQUIRE_SCILAB();
+  // ToolboxDecay.zcos uses the block MOTB_Decay of the test library
+  // tests/e2e/data/xcos/toolbox (tau = 0.5, x0 = 2). In a fresh HOME it is
+  // unknown; laid out as ATOMS installs a toolbox for one user
+  // (SCIHOME/atoms/<name>/<version>/loader.sce) it is found.
+  const fs::path dir = scratch("diagram-atoms-toolbox");
+  const fs::path home = dir / "home";
+  fs::create_directories(home);
+  const std::vector<std::string> env{"HOME=" + home.string(), "MO_SCILAB_LIBS="};
+  const Run missing = run_tool(kMocompile, {(kData / "ToolboxDecay.zcos").string()}, dir, env);
+  INFO(missing.err);
+  REQUIRE(missing.status == 1);
+  CHECK(missing.err.find("the diagram uses blocks that Scilab does not know: MOTB_Decay") != std::string::npos);
+  // Scilab made its SCIHOME (~/.Scilab/scilab-<version>) when it started.
+  std::vector<fs::path> scihomes;
+  for (const auto& e : fs::directory_iterator(home / ".Scilab")) scihomes.push_back(e.path());
+  REQUIRE(scihomes.size() == 1);
+  const fs::path installed = scihomes[0] / "atoms" / "motoolbox" / "1.0";
+  fs::create_directories(installed);
+  fs::copy(kData / "toolbox", installed, fs::copy_options::recursive);
+
+  const Run found = run_tool(kMocompile, {(kData / "ToolboxDecay.zcos").string(), "--save-flat", (dir / "flat").string()},
+                             dir, env);
+  INFO(found.err);
+  REQUIRE(found.status == 0);
+  const std::string flat = slurp(dir / "flat" / "ToolboxDecay_imf.mo");
+  CHECK(flat.find("`MoToolbox_DOT_Decay1.x`") != std::string::npos);
+  // The flat model simulates to x = 2 e^(-t/0.5).
+  const Run sim = run_tool(kMorun, {(dir / "flat" / "ToolboxDecay_imf.mo").string(), "--stop-time", "1", "--rtol",
+                                    "1e-9", "--atol", "1e-12", "-o", (dir / "out").string()}, dir);
+  INFO(sim.err);
+  REQUIRE(sim.status == 0);
+  const auto [times, x] = csv_column(dir / "out" / "result.csv", "MoToolbox_DOT_Decay1.x");
+  REQUIRE(!x.empty());
+  CHECK(x.front() == Approx(2.0).epsilon(1e-12));
+  CHECK(x.back() == Approx(2.0 * std::exp(-2.0)).epsilon(1e-6));
 }

@@ -147,3 +147,25 @@ TEST_CASE("an initial equation of a fixed = false parameter is ignored with a wa
         std::string::npos);
   CHECK(text.find("over-determined") == std::string::npos);
 }
+
+TEST_CASE("a fixed = true variable that is not a state sets the initial state without initial equations") {
+  const symbolic::OdeModel m = lower_spec({source("FixedAlgebraic"), {}});
+  std::vector<double> p;
+  for (const auto& par : m.parameters) p.push_back(par.value);
+  const std::vector<double> x0 = symbolic::OdeInterpreter(m).initial_state(p);
+  REQUIRE(x0.size() == 1);
+  CHECK(x0[m.state_index("x").value()] == Approx(2.0).epsilon(1e-14));  // y = 2 x = 4
+}
+
+TEST_CASE("a fixed = true variable that is not a state gives way to a fixed state, with a warning") {
+  const auto [ok, text] = lower_text("FixedRedundant");
+  INFO(text);
+  REQUIRE(ok);
+  CHECK(text.find("warning: 1 variable(s) declared fixed = true are not states") != std::string::npos);
+  CHECK(text.find("their start values are not imposed: y") != std::string::npos);
+  const symbolic::OdeModel m = lower_spec({source("FixedRedundant"), {}});
+  std::vector<double> p;
+  for (const auto& par : m.parameters) p.push_back(par.value);
+  const std::vector<double> x0 = symbolic::OdeInterpreter(m).initial_state(p);
+  CHECK(x0[m.state_index("x").value()] == Approx(1.0).epsilon(1e-14));
+}

@@ -133,6 +133,15 @@ TEST_CASE("report: progress lines on stderr, none with --quiet; timings in study
   CHECK(r.err.find("objective") != std::string::npos);
   CHECK(r.err.find('\r') == std::string::npos);  // stderr is a file: plain lines only
   check_timings(dir / "loud");
+  // The design's figures, as in the paper's Figs 6-7: bounds dashed, the
+  // end-point constraints marked, the sensitivities of the measured outputs.
+  const std::string states = slurp(dir / "loud" / "states.svg");
+  CHECK(states.find("end-point target") != std::string::npos);
+  CHECK(states.find("bound") != std::string::npos);
+  CHECK(slurp(dir / "loud" / "inputs.svg").find("bound") != std::string::npos);
+  CHECK(fs::exists(dir / "loud" / "sensitivities.svg"));
+  const std::string plot_script = slurp(dir / "loud" / "states.gp");
+  CHECK(plot_script.find("dt 2") != std::string::npos);  // dashed bounds
   const json s = json::parse(slurp(dir / "loud" / "summary.json"));
   CHECK(s["timings_seconds"].contains("ipopt"));  // the runtime's own solver time is kept
 
@@ -279,4 +288,23 @@ TEST_CASE("report: report.html from a small study opens in headless Chromium wit
   fs::create_directories(dir / "bad");
   const Chromium b = open_in_chromium(chromium, dir / "bad.html", dir / "bad");
   CHECK(console_lines(b.log).find("broken page") != std::string::npos);
+}
+
+TEST_CASE("report: mocompile shows its stages on stderr, none with --quiet") {
+  const fs::path dir = scratch("report_mocompile_progress");
+  fs::create_directories(dir);
+  const std::string mocompile = quoted(std::string(MO_BINARY_DIR) + "/tools/mocompile");
+  const std::string args = " " + kOde + " --emit cpp -o " + quoted((dir / "cpp").string());
+  const fs::path err = dir / "stderr.txt";
+  // A delay of 1 ms makes the stages of the cart-pendulum report (at least
+  // one of them: the heartbeat thread may be scheduled late on a loaded machine).
+  CHECK(shell("MO_PROGRESS_SECONDS=0.001 " + mocompile + args + " 2>" + quoted(err.string())) == 0);
+  std::string text = slurp(err);
+  INFO(text);
+  CHECK((text.find("mocompile: flatten: ") != std::string::npos || text.find("mocompile: lower: ") != std::string::npos ||
+         text.find("mocompile: generate: ") != std::string::npos));
+  CHECK(text.find('\r') == std::string::npos);  // stderr is a file: plain lines only
+  CHECK(shell("MO_PROGRESS_SECONDS=0.001 " + mocompile + " --quiet" + args + " 2>" + quoted(err.string())) == 0);
+  text = slurp(err);
+  CHECK(text.empty());
 }

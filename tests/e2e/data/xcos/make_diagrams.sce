@@ -2,8 +2,9 @@
 // plain XML) of tests/e2e/data/xcos from Scilab's own blocks: a series RLC
 // circuit (Electrical palette) driven through a controlled voltage source
 // (CVS) by a constant block (CONST_m, not Modelica): mocompile makes that
-// signal an input of the model. Also NoModelica.zcos (below).
-// Run: MO_OUT=DIR xvfb-run -a scilab -nw -nb -f make_diagrams.sce < /dev/null
+// signal an input of the model. Also NoModelica.zcos, FixedInit.zcos and
+// ToolboxDecay.zcos (below).
+// Run: MO_OUT=DIR MO_TOOLBOX=toolbox xvfb-run -a scilab -nw -nb -f make_diagrams.sce < /dev/null
 mode(-1);
 lines(0);
 loadXcosLibs();
@@ -71,5 +72,51 @@ scs_m = scicos_diagram();
 scs_m.props.title = "NoModelica";
 scs_m.objs(1) = mo_place(CONST_m("define"), 60, 100);
 xcosDiagramToScilab(getenv("MO_OUT") + "/NoModelica.zcos", scs_m);
+// FixedInit.zcos: a Modelica generic block (MBLOCK, Scilab's Modelica
+// palette) FixedLag: der(x) = -x, y = 2 x; x is a state with start 0
+// (parameter property 1), y a fixed state with start 4 (property 2): only the
+// translator's init file says that y is fixed, so x(0) = 2.
+fl_txt = ["model FixedLag"; "  Real x;"; "  Real y;"; "equation"; "  der(x) = -x;"; "  y = 2*x;"; "end FixedLag;"];
+fl = MBLOCK("define");
+fl.graphics.exprs.in = "[]";
+fl.graphics.exprs.intype = "[]";
+fl.graphics.exprs.out = "[]";
+fl.graphics.exprs.outtype = "[]";
+fl.graphics.exprs.param = sci2exp(["x"; "y"]);
+fl.graphics.exprs.paramv = list("0", "4");
+fl.graphics.exprs.pprop = sci2exp([1; 2]);
+fl.graphics.exprs.nameF = "FixedLag";
+fl.graphics.exprs.funtxt = fl_txt;
+fl_mo = modelica();
+fl_mo.model = "FixedLag";
+fl_mo.inputs = [];
+fl_mo.outputs = [];
+fl_mo.parameters = list(["x", "y"], list(0, 4), [1, 2]);
+fl.model.equations = fl_mo;
+fl.model.sim = list("FixedLag", 30004);
+fl.model.in = [];
+fl.model.out = [];
+fl.model.rpar = [0; 4];
+fl.graphics.in_implicit = [];
+fl.graphics.out_implicit = [];
+fl.graphics.pin = [];
+fl.graphics.pout = [];
+scs_m = scicos_diagram();
+scs_m.props.title = "FixedInit";
+scs_m.props.tf = 1;
+scs_m.objs(1) = mo_place(fl, 60, 100);
+xcosDiagramToScilab(getenv("MO_OUT") + "/FixedInit.zcos", scs_m);
+// ToolboxDecay.zcos: the block MOTB_Decay of the test block library
+// MoToolbox (folder toolbox/, MO_TOOLBOX), tau = 0.5, x0 = 2.
+exec(getenv("MO_TOOLBOX") + "/loader.sce", -1);
+dec = MOTB_Decay("define");
+dec.graphics.exprs = ["0.5"; "2"];
+dec.model.rpar = [0.5; 2];
+dec.model.equations.parameters(2) = list(0.5, 2);
+scs_m = scicos_diagram();
+scs_m.props.title = "ToolboxDecay";
+scs_m.props.tf = 1;
+scs_m.objs(1) = mo_place(dec, 60, 100);
+xcosDiagramToScilab(getenv("MO_OUT") + "/ToolboxDecay.zcos", scs_m);
 mputl("done", getenv("MO_OUT") + "/made");
 exit(0);
