@@ -114,11 +114,6 @@ IpoptOutcome run_once(Ipopt::IpoptApplication& app, CollocationNlp& nlp, bool ex
   out.status = map_status(status);
   out.message = describe(status);
   out.kkt = tnlp->kkt();
-  if (out.status == OptimizationStatus::restoration_failure &&
-      out.kkt.primal_infeasibility <= kFeasible) {
-    out.status = OptimizationStatus::stalled;
-    out.message += ", at a feasible point: stalled";
-  }
   const bool converged = out.status == OptimizationStatus::success ||
                          out.status == OptimizationStatus::acceptable;
   // A trial point rejected on the way (e.g. a step to a non-positive-definite F)
@@ -174,6 +169,16 @@ IpoptOutcome solve_with_ipopt(CollocationNlp& nlp, const SolverOptions& options)
     out = run_once(*app, nlp, exact, user_scaling, options);
     out.retries = std::move(earlier);
     evaluation_seconds += out.evaluation_seconds;
+    const bool more_changes =
+        options.retry_on_solver_failure && retryable(out.status) && attempt < changes.size();
+    // A restoration failure is first retried with the changes below (without
+    // MUMPS's scaling the cart-pendulum designs converge); when they are spent,
+    // one at a feasible point is a stall.
+    if (!more_changes && out.status == OptimizationStatus::restoration_failure &&
+        out.kkt.primal_infeasibility <= kFeasible) {
+      out.status = OptimizationStatus::stalled;
+      out.message += ", at a feasible point: stalled";
+    }
     if (out.status == OptimizationStatus::stalled && !restarted && options.retry_on_solver_failure) {
       // The fallback for a stall: restart once from the last iterate, with the
       // other Hessian mode where both exist (a fresh L-BFGS memory otherwise).
@@ -186,8 +191,7 @@ IpoptOutcome solve_with_ipopt(CollocationNlp& nlp, const SolverOptions& options)
                             (exact ? "exact" : "limited-memory") + " Hessian");
       continue;
     }
-    if (!options.retry_on_solver_failure || !retryable(out.status) || attempt >= changes.size())
-      break;
+    if (!more_changes) break;
     out.retries.push_back("after " + out.message + ": retrying with " + changes[attempt].what);
     changes[attempt].apply(*app->Options(), user_scaling);
   }

@@ -119,6 +119,16 @@ inline std::size_t parameter(const runtime::ModelInfo& info, const std::string& 
   return *k;
 }
 
+/// The discrete variable `name` as the model's last simulation (or
+/// initialisation) left it; REQUIREs that it exists.
+inline double discrete_value(runtime::Model& model, const std::string& name) {
+  const auto& d = model.info().discrete;
+  const auto it = std::find_if(d.begin(), d.end(), [&](const auto& v) { return v.name == name; });
+  INFO("discrete variable " << name);
+  REQUIRE(it != d.end());
+  return model.discrete()[static_cast<std::size_t>(it - d.begin())];
+}
+
 /// The trajectory column `name`; REQUIREs that it exists.
 inline std::vector<double> column(const runtime::ResultTable& table, const std::string& name) {
   const auto& names = table.names();

@@ -29,15 +29,6 @@ bool has_event_near(const std::vector<double>& events, double t, double tol) {
   return std::any_of(events.begin(), events.end(), [&](double e) { return std::fabs(e - t) <= tol; });
 }
 
-/// The discrete variable `name` as the last simulation left it.
-double final_discrete(runtime::Model& model, const std::string& name) {
-  const auto& d = model.info().discrete;
-  const auto it = std::find_if(d.begin(), d.end(), [&](const auto& v) { return v.name == name; });
-  INFO("discrete variable " << name);
-  REQUIRE(it != d.end());
-  return model.discrete()[static_cast<std::size_t>(it - d.begin())];
-}
-
 }  // namespace
 
 TEST_CASE("bouncing ball .mo: impact times and the peak heights e^(2k) h0 after each bounce") {
@@ -79,7 +70,7 @@ TEST_CASE("bouncing ball .mo: impact times and the peak heights e^(2k) h0 after 
   }
   // Never below the floor by more than the root-finding tolerance.
   CHECK(*std::min_element(h.begin(), h.end()) > -1e-6);
-  CHECK(final_discrete(*model, "bounces") == 5.0);
+  CHECK(discrete_value(*model, "bounces") == 5.0);
   WARN("bouncing ball: max |impact time error| = " << worst_t << " s, max |peak error| = " << worst_h << " m");
 }
 
@@ -193,7 +184,7 @@ TEST_CASE("stick-slip friction: spring-mass with Coulomb friction slides, sticks
   for (double e : r.event_times) events += std::to_string(e) + " ";
   INFO("events: " << events);
   for (std::size_t j = 1; j < phases.size(); ++j) CHECK(has_event_near(r.event_times, phases[j].t, 1e-7));
-  CHECK(final_discrete(*model, "mode") == 0.0);
+  CHECK(discrete_value(*model, "mode") == 0.0);
   CHECK(std::fabs(x.back() - phases.back().x) < 1e-6);
   WARN("stick-slip: " << phases.size() << " phases, final x = " << x.back() << ", max |x - exact| = " << worst);
 }

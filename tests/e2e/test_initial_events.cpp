@@ -18,14 +18,6 @@ runtime::SimulationOptions tight() {
   return o;
 }
 
-double discrete_value(runtime::Model& model, const std::string& name) {
-  const auto& d = model.info().discrete;
-  const auto it = std::find_if(d.begin(), d.end(), [&](const auto& v) { return v.name == name; });
-  INFO("discrete variable " << name);
-  REQUIRE(it != d.end());
-  return model.discrete()[static_cast<std::size_t>(it - d.begin())];
-}
-
 }  // namespace
 
 TEST_CASE("initial algorithm of discrete variables: the MSL Pulse started 2.5 periods before t0") {

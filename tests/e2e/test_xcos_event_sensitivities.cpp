@@ -11,6 +11,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include <nlohmann/json.hpp>
 
@@ -87,6 +88,12 @@ std::optional<runtime::Inputs> recorded_inputs(const runtime::ModelInfo& info, c
   return inputs;
 }
 
+/// Models whose sensitivities through events are known to fail, with why
+/// (docs/events.md, "Limits"); the test fails if one of them passes.
+const std::map<std::string, std::string> kKnownFailures{
+    {"HeatingRectifier",
+     "the diode's exponential switches inside a torn nonlinear block: the jump at that event is not finite"}};
+
 double final_time(const fs::path& json_file) {
   std::ifstream in(json_file);
   return nlohmann::json::parse(in)["tf"].get<double>();
@@ -147,6 +154,11 @@ TEST_CASE("Xcos corpus models with events: sensitivities through events = centra
     for (const auto& q : params) os.sensitivities.parameters.push_back(parameter(augmented->info(), q));
     const auto sens = runtime::simulate(*augmented, *inputs, augmented->info().default_parameters(), grid, os);
     INFO(name << ": " << sens.message);
+    if (const auto known = kKnownFailures.find(name); known != kKnownFailures.end()) {
+      CHECK_FALSE(sens.ok());  // fixed: take it off the list
+      WARN("KNOWN FAILURE " << name << ": " << sens.message << " (" << known->second << ")");
+      continue;
+    }
     REQUIRE(sens.ok());
     const std::size_t nb = plain->info().states.size();
     double worst = 0;
