@@ -19,6 +19,7 @@
 #include "mo/codegen/shared_object.hpp"
 #include "mo/runtime/model.hpp"
 #include "mo/runtime/result.hpp"
+#include "mo/runtime/simulate.hpp"
 #include "mo/symbolic/evaluator.hpp"
 #include "pipeline.hpp"
 
@@ -117,6 +118,14 @@ inline std::size_t parameter(const runtime::ModelInfo& info, const std::string& 
   INFO("parameter " << name << " of " << info.name);
   REQUIRE(k);
   return *k;
+}
+
+/// Simulation options at rtol 1e-10, atol 1e-12 (comparisons with exact solutions).
+inline runtime::SimulationOptions tight() {
+  runtime::SimulationOptions o;
+  o.relative_tolerance = 1e-10;
+  o.absolute_tolerance = 1e-12;
+  return o;
 }
 
 /// The discrete variable `name` as the model's last simulation (or

@@ -51,13 +51,6 @@ std::vector<std::array<double, 4>> rk4_reference(double t_end, double h, std::si
   return out;
 }
 
-runtime::SimulationOptions tight() {
-  runtime::SimulationOptions o;
-  o.relative_tolerance = 1e-10;
-  o.absolute_tolerance = 1e-12;
-  return o;
-}
-
 ModelSpec ode_spec(const std::string& cls) {
   return {{kModelica + "CartPendulum/CartPendulumODE.mo", cls, {}, true}, {}};
 }

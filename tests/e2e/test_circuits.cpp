@@ -29,13 +29,6 @@ double number_in(const std::string& file, const std::string& pattern) {
 
 const std::string kNumber = R"(([-+]?[0-9]*\.?[0-9]+(?:[eE][-+]?[0-9]+)?))";
 
-runtime::SimulationOptions tight() {
-  runtime::SimulationOptions o;
-  o.relative_tolerance = 1e-10;
-  o.absolute_tolerance = 1e-12;
-  return o;
-}
-
 }  // namespace
 
 TEST_CASE("Scilab RCCharge (modelicat flat) charges as V(1 - exp(-t/RC))") {

@@ -9,13 +9,6 @@ using namespace mo::e2e;
 
 namespace {
 
-runtime::SimulationOptions tight() {
-  runtime::SimulationOptions o;
-  o.relative_tolerance = 1e-10;
-  o.absolute_tolerance = 1e-12;
-  return o;
-}
-
 /// The grid t0..t_end (intervals) merged with `extra` times, sorted.
 runtime::OutputGrid grid_with(double t_end, std::size_t intervals, std::vector<double> extra) {
   auto times = runtime::OutputGrid::uniform(0, t_end, intervals).times;

@@ -18,13 +18,6 @@ const std::string kInit = kData + "initial/";
 
 tools::ModelSource source(const std::string& name) { return {kInit + name + ".mo", name, {}, true}; }
 
-runtime::SimulationOptions tight() {
-  runtime::SimulationOptions o;
-  o.relative_tolerance = 1e-10;
-  o.absolute_tolerance = 1e-12;
-  return o;
-}
-
 /// The pipeline's diagnostics for `name`, and whether lowering succeeded.
 std::pair<bool, std::string> lower_text(const std::string& name) {
   frontend::SourceManager sources;

@@ -9,17 +9,6 @@
 using namespace mo;
 using namespace mo::e2e;
 
-namespace {
-
-runtime::SimulationOptions tight() {
-  runtime::SimulationOptions o;
-  o.relative_tolerance = 1e-10;
-  o.absolute_tolerance = 1e-12;
-  return o;
-}
-
-}  // namespace
-
 TEST_CASE("initial algorithm of discrete variables: the MSL Pulse started 2.5 periods before t0") {
   auto model = compiled_model("e2e_initial_algorithm_pulse",
                               {{kData + "InitialAlgorithmPulse.mo", "", {}, true}, {}});

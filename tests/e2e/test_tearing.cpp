@@ -54,13 +54,6 @@ Shape shape(const symbolic::OdeModel& m) {
   return s;
 }
 
-runtime::SimulationOptions tight() {
-  runtime::SimulationOptions o;
-  o.relative_tolerance = 1e-10;
-  o.absolute_tolerance = 1e-12;
-  return o;
-}
-
 const runtime::OutputGrid& grid() {
   static const runtime::OutputGrid g = runtime::OutputGrid::uniform(0, 3, 60);
   return g;

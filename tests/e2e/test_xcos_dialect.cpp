@@ -13,13 +13,6 @@ namespace {
 
 const std::string kXcos = kData + "xcos/";
 
-runtime::SimulationOptions tight() {
-  runtime::SimulationOptions o;
-  o.relative_tolerance = 1e-10;
-  o.absolute_tolerance = 1e-12;
-  return o;
-}
-
 }  // namespace
 
 TEST_CASE("xcos: a free input of a flat file is a model input", "[e2e][xcos]") {
