@@ -18,6 +18,7 @@
 #include "mo/frontend/printer.hpp"
 
 #include <fmt/format.h>
+#include <map>
 #include <set>
 
 namespace mo::frontend::detail {
@@ -33,6 +34,8 @@ namespace {
 
 constexpr unsigned kMaxCallDepth = 64;
 constexpr long kMaxWhileIterations = 100'000;
+/// Varying conditions met on one way through a function's algorithm.
+constexpr std::size_t kMaxDecisions = 128;
 
 Tensor clone_tensor(const Tensor &t) {
   Tensor out;
@@ -202,12 +205,109 @@ struct InlineUnsupported {
   std::string what;
 };
 
+/// A condition that varies where the algorithm must take one way only (a
+/// `while`, an `if` around `return`/`break`/`while`): the run stops, and
+/// inline_call runs the algorithm again once per outcome (see Decisions).
+struct NeedDecision {
+  ExprPtr condition;
+};
+
+/// The outcomes taken so far at the varying conditions of one run, in the
+/// order they are met; a run that meets one more throws NeedDecision.
+struct Decisions {
+  std::vector<bool> taken;
+  std::size_t next = 0;
+  /// The outcome on this path of each condition met so far, by its text: a
+  /// condition met again (a loop's test after the `if` that guards the loop)
+  /// is not a new decision, and the ways it rules out are never run.
+  std::map<std::string, bool> known;
+};
+
+/// The value of `c` from `known` outcomes and literals (folded) through and/or/not,
+/// or -1 when they do not decide it; iterative over the and/or tree.
+int known_value(Flattener &f, const Expr &c, const std::map<std::string, bool> &known) {
+  // Post-order over the Boolean connectives only; other nodes are leaves.
+  std::vector<std::pair<const Expr *, bool>> work{{&c, false}};
+  std::map<const Expr *, int> value;
+  while (!work.empty()) {
+    auto [e, expanded] = work.back();
+    work.pop_back();
+    const bool connective = (e->kind == ExprKind::Binary && (e->op == Op::And || e->op == Op::Or)) ||
+                            (e->kind == ExprKind::Unary && e->op == Op::Not);
+    if (!connective) {
+      if (is_literal(*e) || literals_only(*e)) {
+        value[e] = f.eval(*e, e->range) != 0;
+      } else {
+        auto it = known.find(print_expr(*e));
+        value[e] = it == known.end() ? -1 : it->second;
+      }
+      continue;
+    }
+    if (!expanded) {
+      work.emplace_back(e, true);
+      for (const auto &a : e->args)
+        work.emplace_back(a.get(), false);
+      continue;
+    }
+    if (e->kind == ExprKind::Unary) {
+      const int a = value[e->args[0].get()];
+      value[e] = a < 0 ? -1 : 1 - a;
+      continue;
+    }
+    const int a = value[e->args[0].get()], b = value[e->args[1].get()];
+    const int absorbing = e->op == Op::And ? 0 : 1;
+    if (a == absorbing || b == absorbing)
+      value[e] = absorbing;
+    else if (a >= 0 && b >= 0)
+      value[e] = 1 - absorbing;
+    else {
+      auto it = known.find(print_expr(*e));
+      value[e] = it == known.end() ? -1 : it->second;
+    }
+  }
+  return value[&c];
+}
+
+/// True if `body` holds a `return`, a `while`, or a `break` that leaves the
+/// loop enclosing `body` (not one of a loop inside it); iterative.
+bool has_jump(const std::vector<Statement> &body) {
+  std::vector<std::pair<const std::vector<Statement> *, bool>> work{{&body, false}}; // (list, inside a nested loop)
+  while (!work.empty()) {
+    auto [list, nested] = work.back();
+    work.pop_back();
+    for (const Statement &st : *list) {
+      switch (st.kind) {
+      case StatementKind::Return:
+      case StatementKind::While:
+        return true;
+      case StatementKind::Break:
+        if (!nested)
+          return true;
+        break;
+      case StatementKind::If:
+      case StatementKind::When:
+        for (const auto &b : st.branches)
+          work.emplace_back(&b.body, nested);
+        break;
+      case StatementKind::For:
+        work.emplace_back(&st.body, true);
+        break;
+      case StatementKind::Assign:
+      case StatementKind::Call:
+        break;
+      }
+    }
+  }
+  return false;
+}
+
 /// Executes one function's algorithm on symbolic values. With `numeric`, the
 /// inputs are numbers and every assigned value that is numbers only is folded
 /// to one, so loops that iterate to a tolerance stay small.
 class Inliner {
 public:
-  Inliner(Flattener &f, ClassNode *fn, bool numeric = false) : f_(f), fn_(fn), numeric_(numeric) {}
+  Inliner(Flattener &f, ClassNode *fn, bool numeric, Decisions &decisions)
+      : f_(f), fn_(fn), numeric_(numeric), decisions_(decisions) {}
 
   FunctionLocals values;
 
@@ -228,11 +328,65 @@ private:
   Flattener &f_;
   ClassNode *fn_;
   bool numeric_;
+  Decisions &decisions_;
   ClassNode *cls_ = nullptr;
   LoopEnv env_;
   bool returned_ = false, broke_ = false;
 
   [[noreturn]] void unsupported(SourceRange r, const std::string &what) { throw InlineUnsupported{r, what}; }
+
+  /// The outcome of varying condition `c` on this run's path (see Decisions).
+  bool decide(const Expr &c) {
+    const int known = known_value(f_, c, decisions_.known);
+    if (known >= 0)
+      return known != 0;
+    if (decisions_.next == decisions_.taken.size()) {
+      if (decisions_.next >= kMaxDecisions)
+        unsupported(c.range, fmt::format("more than {} conditions that vary decide one way through the "
+                                         "algorithm (a while-loop on a varying condition?)", kMaxDecisions));
+      // `i < n and x >= a[i]` with i and n known: the decision is on the rest.
+      const Expr *rest = &c;
+      while (rest->kind == ExprKind::Binary && (rest->op == Op::And || rest->op == Op::Or)) {
+        const int left = known_value(f_, *rest->args[0], decisions_.known);
+        const int right = known_value(f_, *rest->args[1], decisions_.known);
+        const int neutral = rest->op == Op::And ? 1 : 0;
+        if (left == neutral)
+          rest = rest->args[1].get();
+        else if (right == neutral)
+          rest = rest->args[0].get();
+        else
+          break;
+      }
+      throw NeedDecision{rest->clone()};
+    }
+    const bool outcome = decisions_.taken[decisions_.next++];
+    learn(c, outcome);
+    return outcome;
+  }
+
+  /// Records `c` = `outcome`, and for a relation also its complement
+  /// (`a >= b` false: `a < b` true), which the other branch of the `if`
+  /// around a loop tests.
+  void learn(const Expr &c, bool outcome) {
+    decisions_.known[print_expr(c)] = outcome;
+    if (c.kind != ExprKind::Binary)
+      return;
+    Op complement = Op::Eq;
+    switch (c.op) {
+    case Op::Lt: complement = Op::Ge; break;
+    case Op::Le: complement = Op::Gt; break;
+    case Op::Gt: complement = Op::Le; break;
+    case Op::Ge: complement = Op::Lt; break;
+    case Op::Eq: complement = Op::Ne; break;
+    case Op::Ne: complement = Op::Eq; break;
+    case Op::Add: case Op::Sub: case Op::Mul: case Op::Div: case Op::Pow: case Op::ElemAdd: case Op::ElemSub:
+    case Op::ElemMul: case Op::ElemDiv: case Op::ElemPow: case Op::And: case Op::Or: case Op::Neg:
+    case Op::Plus: case Op::Not:
+      return;
+    }
+    ExprPtr other = ast::make_binary(complement, c.args[0]->clone(), c.args[1]->clone(), c.range);
+    decisions_.known[print_expr(*other)] = !outcome;
+  }
 
   /// In numeric mode, elements made of numbers only become one number.
   void fold(Tensor &t) {
@@ -318,7 +472,19 @@ private:
         exec_if(branches, i + 1);
       return;
     }
-    // The condition varies: run both ways, then merge into if-expressions.
+    // The condition varies. Around a return, break or while the algorithm
+    // takes one way per run (the result is an if-expression over the runs);
+    // otherwise both ways run here and merge into if-expressions.
+    bool jumps = false;
+    for (std::size_t k = i; k < branches.size(); ++k)
+      jumps = jumps || has_jump(branches[k].body);
+    if (jumps) {
+      if (decide(*c))
+        exec(b.body);
+      else
+        exec_if(branches, i + 1);
+      return;
+    }
     FunctionLocals before = clone_locals(values);
     exec(b.body);
     if (returned_ || broke_)
@@ -377,9 +543,7 @@ private:
       ExprPtr c = f_.scalar_expr(*st.value, scope(cls_));
       if (!is_literal(*c) && f_.is_constant(*c)) // parameters: their values now
         c = ast::make_bool(f_.eval(*c, st.value->range) != 0, st.value->range);
-      if (!is_literal(*c))
-        unsupported(st.value->range, "a while-loop whose condition depends on variables");
-      if (c->number == 0)
+      if (is_literal(*c) ? c->number == 0 : !decide(*c))
         return;
       exec(st.body);
       if (returned_)
@@ -502,12 +666,14 @@ std::vector<const Expr *> match_arguments(Flattener &f, const Signature &sig, co
 namespace {
 
 /// Runs `fn`'s algorithm on `arguments` (the given inputs), symbolically or,
-/// with `numeric`, on numbers; throws InlineUnsupported where it cannot.
-std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
+/// with `numeric`, on numbers, along the outcomes `decisions` gives; throws
+/// NeedDecision at a varying condition past them, InlineUnsupported where it
+/// cannot go on.
+std::vector<Tensor> inline_path(Flattener &f, ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
                                 std::vector<Tensor> arguments, const Expr &call, std::size_t wanted,
-                                bool numeric) {
+                                bool numeric, Decisions &decisions) {
   const std::string fn_name = fn->path();
-  Inliner in(f, fn, numeric);
+  Inliner in(f, fn, numeric, decisions);
   for (std::size_t i = 0; i < sig.inputs.size(); ++i)
     if (given[i])
       in.values[sig.inputs[i].first->name] = std::move(arguments[i]);
@@ -573,6 +739,69 @@ std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &si
   return out;
 }
 
+constexpr std::size_t kMaxPaths = 4096;
+
+/// Runs `fn`'s algorithm once per way through its varying decisions (a
+/// binary tree: each run that meets a new one becomes a node with both
+/// outcomes below it) and joins the runs' outputs bottom-up into
+/// if-expressions on the decisions' conditions. Throws InlineUnsupported
+/// beyond kMaxPaths runs or where the runs' outputs differ in size.
+std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
+                                const std::vector<Tensor> &arguments, const Expr &call, std::size_t wanted,
+                                bool numeric) {
+  struct Node {
+    std::vector<bool> path;
+    ExprPtr condition; ///< set: a decision, children then_child and then_child + 1
+    std::size_t then_child = 0;
+    std::vector<Tensor> outs;
+  };
+  std::vector<Node> nodes(1);
+  for (std::size_t n = 0; n < nodes.size(); ++n) {
+    if (nodes.size() > 2 * kMaxPaths)
+      throw InlineUnsupported{call.range, fmt::format("its varying conditions make more than {} ways through "
+                                                      "the algorithm", kMaxPaths)};
+    std::vector<Tensor> args;
+    for (const Tensor &t : arguments)
+      args.push_back(clone_tensor(t));
+    Decisions d;
+    d.taken = nodes[n].path;
+    try {
+      nodes[n].outs = inline_path(f, fn, sig, given, std::move(args), call, wanted, numeric, d);
+    } catch (NeedDecision &need) {
+      nodes[n].condition = std::move(need.condition);
+      nodes[n].then_child = nodes.size();
+      for (bool outcome : {true, false}) {
+        Node child;
+        child.path = nodes[n].path;
+        child.path.push_back(outcome);
+        nodes.push_back(std::move(child));
+      }
+    }
+  }
+  // Children come after their parent: joining from the back is bottom-up.
+  for (std::size_t n = nodes.size(); n-- > 0;) {
+    Node &node = nodes[n];
+    if (!node.condition)
+      continue;
+    std::vector<Tensor> &yes = nodes[node.then_child].outs, &no = nodes[node.then_child + 1].outs;
+    for (std::size_t k = 0; k < yes.size(); ++k) {
+      if (yes[k].dims != no[k].dims)
+        throw InlineUnsupported{call.range, "an output has different sizes on different ways through the algorithm"};
+      for (std::size_t j = 0; j < yes[k].elems.size(); ++j) {
+        if (print_expr(*yes[k].elems[j]) == print_expr(*no[k].elems[j]))
+          continue;
+        auto e = std::make_unique<Expr>(ExprKind::If, call.range);
+        e->args.push_back(node.condition->clone());
+        e->args.push_back(std::move(yes[k].elems[j]));
+        e->args.push_back(std::move(no[k].elems[j]));
+        yes[k].elems[j] = std::move(e);
+      }
+    }
+    node.outs = std::move(yes);
+  }
+  return std::move(nodes[0].outs);
+}
+
 } // namespace
 
 std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, const Scope &s,
@@ -631,17 +860,11 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
     unsigned &d;
     ~DepthGuard() { --d; }
   } guard{function_depth_};
-  auto cloned = [](const std::vector<Tensor> &ts) {
-    std::vector<Tensor> out;
-    for (const Tensor &t : ts)
-      out.push_back(clone_tensor(t));
-    return out;
-  };
   const auto report = [&](const InlineUnsupported &u) {
     fail(DiagId::Unsupported, u.range, "cannot inline function '" + fn_name + "': " + u.what);
   };
   try {
-    return inline_call(*this, fn, sig, given, cloned(arguments), call, wanted, false);
+    return inline_call(*this, fn, sig, given, arguments, call, wanted, false);
   } catch (const InlineUnsupported &u) {
     // A loop to a tolerance, an error() on a bad input, ...: with parameter
     // arguments (a filter's coefficients) the call can still be evaluated now.
@@ -655,7 +878,7 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
           e = ast::make_real(eval(*e, call.range), call.range);
     std::vector<Tensor> out;
     try {
-      out = inline_call(*this, fn, sig, given, std::move(arguments), call, wanted, true);
+      out = inline_call(*this, fn, sig, given, arguments, call, wanted, true);
     } catch (const InlineUnsupported &again) {
       report(again);
     }

@@ -314,7 +314,7 @@ TEST_CASE("what cannot be inlined gets a diagnostic", "[msl][functions]") {
     model M
       Real z = f(time);
     end M;)"),
-                 "a while-loop whose condition depends on variables"));
+                 "more than 128 conditions that vary decide one way through the algorithm"));
   CHECK(contains(diag(R"(
     function g
       input Real u;
@@ -607,6 +607,75 @@ TEST_CASE("tuple equations take the outputs of a function, size() of an unassign
       (a, b) = sin(time);
     end Bad;)");
   CHECK(contains(bad.diagnostics, "the right side of a tuple equation must call a user function"));
+}
+
+TEST_CASE("while, return and break on varying conditions become if-expressions over the ways through",
+          "[msl][functions]") {
+  const char *src = R"(
+    function interp
+      input Real x[:];
+      input Real y[size(x, 1)];
+      input Real xi;
+      input Integer iLast = 1;
+      output Real yi;
+      output Integer iNew = 1;
+    protected
+      Integer i;
+      Integer nx = size(x, 1);
+    algorithm
+      i := min(max(iLast, 1), nx - 1);
+      if xi >= x[i] then
+        while i < nx and xi >= x[i] loop
+          i := i + 1;
+        end while;
+        i := i - 1;
+      else
+        while i > 1 and xi < x[i] loop
+          i := i - 1;
+        end while;
+      end if;
+      yi := y[i] + (y[i + 1] - y[i]) * (xi - x[i]) / (x[i + 1] - x[i]);
+      iNew := i;
+    end interp;
+    function firstTrue
+      input Boolean b[:];
+      output Integer index;
+    algorithm
+      index := 0;
+      for i in 1:size(b, 1) loop
+        if b[i] then
+          index := i;
+          return;
+        end if;
+      end for;
+    end firstTrue;
+    function untilAbove
+      input Real u;
+      output Real y = 0;
+    algorithm
+      for i in 1:3 loop
+        if u < i then
+          break;
+        end if;
+        y := y + i;
+      end for;
+    end untilAbove;
+    model M
+      Real z;
+      Integer j;
+      Integer k = firstTrue({time > 1, time > 2, time > 0.5});
+      Real w = untilAbove(time);
+    equation
+      (z, j) = interp({0, 1, 2}, {0, 1, 4}, time, 2);
+    end M;)";
+  const std::string s = flat(src);
+  // Forward from i = 2 (time >= 1): the loop's test `2 < 3 and time >= 1` is
+  // known on that way and not asked again; backward to i = 1 otherwise, where
+  // the backward loop's `time < 1` is known from the `if`.
+  CHECK(contains(s, "z = if time >= 1 then 1 + (4 - 1) * (time - 1) / (2 - 1) else 0 + (1 - 0) * (time - 0) / (1 - 0);"));
+  CHECK(contains(s, "j = if time >= 1 then min(max(2, 1), 3 - 1) + 1 - 1 else min(max(2, 1), 3 - 1) - 1;"));
+  CHECK(contains(s, "k = if time > 1 then 1 else if time > 2 then 2 else if time > 0.5 then 3 else 0;"));
+  CHECK(contains(s, "w = if time < 1 then 0 else if time < 2 then 0 + 1 else if time < 3 then 0 + 1 + 2 else 0 + 1 + 2 + 3;"));
 }
 
 TEST_CASE("algorithm sections of models that assign each variable once are equations", "[msl][algorithm]") {
