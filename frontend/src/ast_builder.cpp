@@ -165,8 +165,13 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
     } else if (auto *alg = dynamic_cast<P::Algorithm_sectionContext *>(child)) {
       auto section = statements(alg->statement());
       auto &target = alg->INITIAL() ? cls.initial_equations : cls.equations;
-      if (cls.restriction != Restriction::Function && algorithm_as_equations(section, target))
+      if (cls.restriction != Restriction::Function) {
+        if (algorithm_as_equations(section, target))
+          continue;
+        cls.model_algorithms.push_back(AlgorithmSection{alg->INITIAL() != nullptr, range(alg->ALGORITHM()),
+                                                        std::move(section)});
         continue;
+      }
       if (!cls.has_algorithm)
         cls.algorithm_range = range(alg->ALGORITHM());
       cls.has_algorithm = true;

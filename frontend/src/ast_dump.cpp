@@ -39,6 +39,9 @@ public:
     section("initial equation", c.initial_equations, depth + 1);
     section("constraint", c.constraints, depth + 1);
     if (c.has_algorithm) line(depth + 1, "algorithm (not flattened)");
+    for (auto &a : c.model_algorithms)
+      line(depth + 1, std::string(a.initial ? "initial " : "") + "algorithm (" + std::to_string(a.body.size()) +
+                          " statements, flattened by execution)");
   }
 
 private:

@@ -174,6 +174,17 @@ void Flattener::flatten_equations(Instance &top) {
       } catch (Reported &) {
       }
     }
+    std::vector<std::pair<const ast::AlgorithmSection *, ClassNode *>> initial_algorithms;
+    for (auto &[alg, cls] : inst->algorithms) {
+      if (alg->initial) {
+        initial_algorithms.emplace_back(alg, cls);
+        continue;
+      }
+      try {
+        algorithm_section(*alg, Scope{inst, cls, nullptr}, model_->equations);
+      } catch (Reported &) {
+      }
+    }
     for (auto &[eq, cls] : inst->initial_equations) {
       std::vector<ast::Equation> produced;
       try {
@@ -181,6 +192,16 @@ void Flattener::flatten_equations(Instance &top) {
       } catch (Reported &) {
       }
       // Now, so that the next initial equations can evaluate these parameters.
+      bind_computed_parameters(produced);
+      for (auto &e : produced)
+        model_->initial_equations.push_back(std::move(e));
+    }
+    for (auto &[alg, cls] : initial_algorithms) {
+      std::vector<ast::Equation> produced;
+      try {
+        algorithm_section(*alg, Scope{inst, cls, nullptr}, produced);
+      } catch (Reported &) {
+      }
       bind_computed_parameters(produced);
       for (auto &e : produced)
         model_->initial_equations.push_back(std::move(e));

@@ -213,6 +213,8 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
     inst.initial_equations.emplace_back(&eq, cls);
   for (const auto &eq : def.constraints)
     inst.constraints.emplace_back(&eq, cls);
+  for (const auto &alg : def.model_algorithms)
+    inst.algorithms.emplace_back(&alg, cls);
   class_stack_.pop_back();
 }
 

@@ -105,6 +105,8 @@ struct Instance {
   /// each was written in (for lexical lookup).
   std::vector<std::pair<const ast::Equation *, ClassNode *>> equations, initial_equations;
   std::vector<std::pair<const ast::Equation *, ClassNode *>> constraints;
+  /// Algorithm sections that are not plain equations (flatten_algorithms.cpp).
+  std::vector<std::pair<const ast::AlgorithmSection *, ClassNode *>> algorithms;
   ast::Variability variability = ast::Variability::Continuous;
   ast::Causality causality = ast::Causality::None;
   bool is_enumeration = false;
@@ -274,6 +276,10 @@ public:
   void tuple_equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
   void equal_elements(const ast::Equation &eq, Tensor &l, Tensor &r, std::vector<ast::Equation> &out);
   void connect(const ast::Equation &eq, const Scope &s);
+  /// An algorithm section executed on expressions (flatten_algorithms.cpp):
+  /// appends `v = value` per assigned variable (when-clauses for those of
+  /// `when` statements) to `out`; reports what it cannot express.
+  void algorithm_section(const ast::AlgorithmSection &alg, const Scope &s, std::vector<ast::Equation> &out);
   void finish_connections();
 
   // -- shared state

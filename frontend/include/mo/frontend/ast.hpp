@@ -231,6 +231,15 @@ struct Statement {
   std::vector<StatementBranch> branches;
 };
 
+/// An algorithm section of a model or block that is not plain equations
+/// (algorithm_equations.cpp): flattened by executing its statements on
+/// expressions (flatten_algorithms.cpp).
+struct AlgorithmSection {
+  bool initial = false; ///< `initial algorithm`
+  SourceRange range;    ///< the `algorithm` keyword
+  std::vector<Statement> body;
+};
+
 enum class Restriction : std::uint8_t {
   Class, Model, Record, OperatorRecord, Block, Connector, ExpandableConnector, Type,
   Package, Function, Operator, Optimization,
@@ -272,7 +281,8 @@ struct ClassDef {
   bool has_algorithm = false;   ///< algorithms are parsed but not flattened
   SourceRange algorithm_range;
   bool is_external = false;     ///< `external` function
-  std::vector<Statement> algorithm; ///< the statements of every algorithm section, in order
+  std::vector<Statement> algorithm; ///< functions: the statements of every algorithm section, in order
+  std::vector<AlgorithmSection> model_algorithms; ///< other classes: sections that are not equations
   std::string external_language;    ///< `external "builtin"`: "builtin" (unescaped)
   std::string external_function;    ///< the called name in `external "C" y = f(u)`; may be empty
 };
