@@ -373,6 +373,8 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
     }
     std::vector<int> dims;
     std::vector<Instance *> insts;
+    if (Tensor chosen; s.inst && s.inst->member_index.count(e.ref.parts[0].name) && varying_subscript(e, s, chosen))
+      return chosen;
     if (resolve_instances(e.ref, s, e.range, dims, insts)) {
       Tensor t;
       t.dims = dims;

@@ -298,6 +298,10 @@ public:
                          std::vector<int> &dims, std::vector<Instance *> &out);
   /// The constant `name` that an import clause of `cls` brings in, or null.
   const ast::Component *imported_constant(ClassNode *cls, const std::string &name, ClassNode *&owner);
+  /// `a[i]` with a subscript that varies in time: `if i == 1 then a[1] ...
+  /// else a[n]` in `out` (flatten_varying_subscripts.cpp); false when every
+  /// subscript of `ref_expr` is known now.
+  bool varying_subscript(const ast::Expr &ref_expr, const Scope &s, Tensor &out);
   /// A constant reached lexically (package constants, enumeration literals).
   bool lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
 
