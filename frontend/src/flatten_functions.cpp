@@ -335,6 +335,21 @@ private:
 
   [[noreturn]] void unsupported(SourceRange r, const std::string &what) { throw InlineUnsupported{r, what}; }
 
+  /// A condition flattened with `and`/`or` short-circuited where the left
+  /// side is known now: `j <= n and a[j] > x` never indexes a[n + 1].
+  ExprPtr condition(const Expr &c) {
+    if (c.kind != ExprKind::Binary || (c.op != Op::And && c.op != Op::Or))
+      return f_.scalar_expr(c, scope(cls_));
+    ExprPtr left = condition(*c.args[0]);
+    if (is_literal(*left) || literals_only(*left)) {
+      const bool value = f_.eval(*left, c.range) != 0;
+      if (value == (c.op == Op::Or))
+        return ast::make_bool(value, c.range);
+      return condition(*c.args[1]);
+    }
+    return ast::make_binary(c.op, std::move(left), condition(*c.args[1]), c.range);
+  }
+
   /// The outcome of varying condition `c` on this run's path (see Decisions).
   bool decide(const Expr &c) {
     const int known = known_value(f_, c, decisions_.known);
@@ -460,7 +475,7 @@ private:
       exec(b.body);
       return;
     }
-    ExprPtr c = f_.scalar_expr(*b.condition, scope(cls_));
+    ExprPtr c = condition(*b.condition);
     // Parameters that already sized arrays (a filter's `order`) decide now:
     // the other branches may index past those sizes.
     if (!is_literal(*c) && (literals_only(*c) || f_.already_evaluated(*c)))
@@ -540,7 +555,7 @@ private:
     for (long n = 0;; ++n) {
       if (n > kMaxWhileIterations)
         unsupported(st.range, "the while-loop runs more than 100000 times");
-      ExprPtr c = f_.scalar_expr(*st.value, scope(cls_));
+      ExprPtr c = condition(*st.value);
       if (!is_literal(*c) && f_.is_constant(*c)) // parameters: their values now
         c = ast::make_bool(f_.eval(*c, st.value->range) != 0, st.value->range);
       if (is_literal(*c) ? c->number == 0 : !decide(*c))
