@@ -5,6 +5,11 @@
 // transformed model's derivatives equal finite differences.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
 #include "codegen/jacobian_check.hpp"
 #include "e2e/cli.hpp"
 #include "e2e/support.hpp"
@@ -84,4 +89,97 @@ TEST_CASE("loops: the optimum through the loop equals the loop solved by hand", 
     CHECK(loop["status"] == "success");
     CHECK(loop["objective"].get<double>() == Approx(hand["objective"].get<double>()).epsilon(1e-6));
   }
+}
+
+namespace {
+
+/// Column `name` of a CSV file, with the time column.
+std::vector<std::pair<double, double>> csv_column(const fs::path& path, const std::string& name) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::vector<std::string> header;
+  {
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) header.push_back(f);
+  }
+  const auto k = std::size_t(std::find(header.begin(), header.end(), name) - header.begin());
+  REQUIRE(k < header.size());
+  std::vector<std::pair<double, double>> out;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::stringstream ss(line);
+    for (std::string f; std::getline(ss, f, ',');) row.push_back(std::stod(f));
+    out.emplace_back(row[0], row[k]);
+  }
+  return out;
+}
+
+/// The distinct values of a control column in time order.
+std::vector<double> distinct(const std::vector<std::pair<double, double>>& column) {
+  std::vector<double> out;
+  for (const auto& [t, v] : column)
+    if (out.empty() || std::abs(out.back() - v) > 1e-9) out.push_back(v);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("loops: blocking factors per input and bounds on control changes", "[e2e][loops]") {
+  const fs::path dir = scratch("loops_blocks");
+  // u1 on two blocks of two elements, u2 on each element: the mean of t there.
+  json s = solve("Blocks.mop", "", dir / "blocks");
+  CHECK(s["status"] == "success");
+  auto u1 = distinct(csv_column(dir / "blocks" / "trajectories.csv", "u1"));
+  auto u2 = distinct(csv_column(dir / "blocks" / "trajectories.csv", "u2"));
+  REQUIRE(u1.size() == 2);
+  CHECK(u1[0] == Approx(1.0).margin(1e-6));
+  CHECK(u1[1] == Approx(3.0).margin(1e-6));
+  REQUIRE(u2.size() == 4);
+  for (std::size_t k = 0; k < 4; ++k) CHECK(u2[k] == Approx(0.5 + double(k)).margin(1e-6));
+  // |Δu2| ≤ 0.5: least squares with every step at the bound, centred on the mean 2.
+  s = solve("Blocks.mop", "--option 'du_bounds={\"u2=0.5\"}'", dir / "du");
+  CHECK(s["status"] == "success");
+  u2 = distinct(csv_column(dir / "du" / "trajectories.csv", "u2"));
+  REQUIRE(u2.size() == 4);
+  for (std::size_t k = 0; k < 4; ++k) CHECK(u2[k] == Approx(1.25 + 0.5 * double(k)).margin(1e-6));
+  // A control that does not exist is named.
+  const Run bad = morun(quoted(kLoops + "Blocks.mop") + " -o " + quoted((dir / "bad").string()) +
+                            " --option 'du_bounds={\"v=1\"}'", dir);
+  CHECK(bad.status != 0);
+  CHECK(bad.err.find("'v' is not a control of the problem (controls: u1, u2)") != std::string::npos);
+}
+
+TEST_CASE("loops: initial guesses from a Dymola textual result and a CSV result", "[e2e][loops]") {
+  const fs::path dir = scratch("loops_init_result");
+  // max_iter = 0 returns the initial guess itself.
+  for (const std::string file : {"guess_dymola.txt", "guess.csv"}) {
+    INFO(file);
+    const fs::path out = dir / file;
+    const Run r = morun(quoted(kLoops + "Blocks.mop") + " -o " + quoted(out.string()) +
+                            " --option plot=false --option max_iter=0 --option 'init_result=\"" + file + "\"'", dir);
+    INFO(r.err);
+    REQUIRE(fs::exists(out / "trajectories.csv"));
+    for (const auto& [t, x1] : csv_column(out / "trajectories.csv", "x1")) CHECK(x1 == Approx(7 + t).margin(1e-9));
+    if (file == "guess_dymola.txt")  // a negated column (dataInfo −3): x2 = −(1 + t/2)
+      for (const auto& [t, x2] : csv_column(out / "trajectories.csv", "x2")) CHECK(x2 == Approx(-(1 + t / 2)).margin(1e-9));
+    else {  // the control's column u2 = 1 + t, sampled at each element's midpoint
+      const auto u2 = distinct(csv_column(out / "trajectories.csv", "u2"));
+      REQUIRE(u2.size() == 4);
+      for (std::size_t k = 0; k < 4; ++k) CHECK(u2[k] == Approx(1.5 + double(k)).margin(1e-9));
+    }
+  }
+  const Run bad = morun(quoted(kLoops + "Blocks.mop") + " -o " + quoted((dir / "bad").string()) +
+                            " --option 'init_result=\"SqrtLoop.mop\"'", dir);
+  CHECK(bad.status != 0);
+  CHECK(bad.err.find("init_result") != std::string::npos);
+}
+
+TEST_CASE("loops: controls per collocation point (piecewise_constant_controls = false)", "[e2e][loops]") {
+  const fs::path dir = scratch("loops_per_point");
+  // u1 keeps its blocks; u2 tracks t exactly at every collocation point: ∫(u2 − t)² = 0,
+  // and ∫(u1 − t)² over two blocks of length 2 is 2·(2³/12) = 4/3.
+  const json s = solve("Blocks.mop", "--option piecewise_constant_controls=false", dir / "pp");
+  CHECK(s["status"] == "success");
+  CHECK(s["objective"].get<double>() == Approx(4.0 / 3.0).epsilon(1e-6));
 }
