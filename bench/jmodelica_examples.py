@@ -17,6 +17,7 @@ no morun translation), then the count that reach JModelica's optimum.
 import argparse
 import csv
 import json
+import math
 import os
 import subprocess
 import sys
@@ -52,7 +53,8 @@ EXAMPLES = [
     dict(name="double_pendulum", msl=True, file="DoublePendulum.mop", libs=["DoublePendulum.mo"], cls="DoublePendulum.Opt",
          options=["n_e=100"], checks=[("objective", 9.632883808252522, 5e-3, 0)]),
     dict(name="elimination_example", file="JMExamples_opt.mop", cls="JMExamples_opt.EliminationExample",
-         options=[], checks=[("objective", 1.0818134, 1e-4, 0)]),
+         options=["piecewise_constant_controls=false"],
+         note="JModelica's inputs without blocking factors take a value per collocation point", checks=[("objective", 1.0818134, 1e-4, 0)]),
     dict(name="fed_batch_oed", file="fed_batch_reactor.mop", cls="FedBatchReactor_OED",
          options=["task=design", "criterion=T", "parameters={theta1,theta2,theta3,theta4}",
                   "outputs={y1,y2}", "sigma={0.31622776601683794}",
@@ -63,10 +65,17 @@ EXAMPLES = [
               "100 times F with sigma as a covariance), so sigma = 1/sqrt(10) in morun's terms"),
     dict(name="fourbar1", msl=True, file="Fourbar1.mop", libs=["Fourbar1.mo"], cls="Fourbar1.Opt", options=["n_e=20"],
          checks=[("objective", 1.0455646e-03, 5e-3, 0)]),
-    dict(name="vehicle_turn", msl=True, file="vehicle_turn.mop", cls="Turn", options=["n_e=60", "tol=1e-9"],
+    dict(name="vehicle_turn", msl=True, file="vehicle_turn.mop", cls="Turn",
+         options=["n_e=60", "tol=1e-9",
+                  "blocking_factors={%s}" % ", ".join(
+                      '"%s=%s"' % (u, ",".join([str(f)] * (60 // f)))
+                      for u, f in (("delta_u", 2), ("Twf_u", 4), ("Twr_u", 4))),
+                  # the example's du_bounds: 2 / rad2deg with its rad2deg = 180/(2 pi)
+                  'du_bounds={"delta_u=%.17g"}' % (2.0 / (180.0 / (2 * math.pi))),
+                  "init_result=\"{files}/vehicle_turn_dymola.txt\""],
          checks=[("final_time", 4.0118, 5e-3, 0)],
-         note="JModelica blocks delta_u by 2 and Twf_u, Twr_u by 4 elements; "
-              "morun's blocking_factors apply to every control, so none are given"),
+         note="blocking_factors per input, du_bounds and the Dymola result as initial guess, "
+              "as the example sets them"),
     dict(name="qt_par_est_casadi", skip="its measurements are read from qt_par_est_data.mat in Python "
          "(external_data); morun's estimation reads CSV data named in the study"),
     dict(name="cstr_mpc_casadi", skip="model-predictive control: a loop of shifted solves driven by "
@@ -107,7 +116,7 @@ def run(example, files, morun, scratch, msl, timeout):
     if example.get("msl") and msl:
         cmd += ["-L", os.path.join(msl, "Modelica")]
     for opt in ["plot=false"] + example["options"]:
-        cmd += ["--option", opt]
+        cmd += ["--option", opt.replace("{files}", files)]
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
     except subprocess.TimeoutExpired:

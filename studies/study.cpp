@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <optional>
@@ -140,9 +141,18 @@ runtime::OptimalControlProblem base_problem(const Study& s) {
   runtime::OptimalControlProblem p;
   p.t0 = s.problem.t0;
   p.tf = s.problem.tf;
+  std::vector<const symbolic::LoopInput*> loop(info.inputs.size(), nullptr);
+  for (const symbolic::LoopInput& li : s.loops.inputs) loop[li.input] = &li;
   for (std::size_t i = 0; i < info.inputs.size(); ++i) {
     runtime::FreeControl c;
     c.input = i;
+    if (const symbolic::LoopInput* li = loop[i]) {  // an iteration variable: free at every point
+      c.per_point = true;
+      c.bounds = {li->min, li->max};
+      c.initial_guess = runtime::constant_input(std::clamp(li->start, li->min, li->max));
+      p.controls.push_back(std::move(c));
+      continue;
+    }
     c.bounds = bounds_of(s.flat, info.inputs[i].name);
     if (auto g = attribute(s.flat, info.inputs[i].name, &flat::Attributes::initial_guess))
       c.initial_guess = runtime::constant_input(*g);
@@ -153,6 +163,7 @@ runtime::OptimalControlProblem base_problem(const Study& s) {
   p.parameters = parameter_values(info, s.cli);
   if (s.problem.mayer) p.mayer.push_back({output_index(info, *s.problem.mayer), 1.0});
   if (s.problem.lagrange) p.lagrange.push_back({output_index(info, *s.problem.lagrange), 1.0});
+  for (std::size_t k : s.loops.residuals) p.path_constraints.push_back({k, runtime::Bounds{0.0, 0.0}});
   for (const ProblemConstraint& c : s.problem.constraints) {
     const runtime::Bounds b{c.lo, c.hi};
     if (c.time)
@@ -162,6 +173,9 @@ runtime::OptimalControlProblem base_problem(const Study& s) {
   }
   p.collocation = collocation_options(s.opt);
   p.solver = solver_options(s);
+  apply_control_options(s, p);
+  guess_iteration_variables(s, p);
+  apply_init_result(s, p);
   return p;
 }
 
@@ -419,8 +433,21 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
     if (cli.run) record_timings(cli.output, cli.run->timings);
     return status;
   }
+  symbolic::LoopExposure loops;
+  std::unique_ptr<BuiltModel> newton;
+  if (parsed.options.task == "optimal_control" && parsed.options.nonlinear_blocks == "nlp") {
+    loops = symbolic::expose_nonlinear_blocks(*ode);
+    if (!loops.inputs.empty() && parsed.options.init_traj) {
+      std::optional<symbolic::OdeModel> original = lower_model(flat, diags);  // Newton kept
+      if (!original) return 1;
+      std::vector<std::string> variables;
+      for (const auto& li : loops.inputs) variables.push_back(li.variable);
+      add_measured_outputs(*original, variables);
+      newton = std::make_unique<BuiltModel>(build_model(*original, cli.jobs, "morun", cli.run, cli.quiet));
+    }
+  }
   Study s{flat, cli, std::move(parsed.options), std::move(*problem),
-          build_model(*ode, cli.jobs, "morun", cli.run, cli.quiet)};
+          build_model(*ode, cli.jobs, "morun", cli.run, cli.quiet), std::move(loops), std::move(newton)};
   fs::create_directories(cli.output);
   if (!world.root() && s.opt.task != "design" && s.opt.task != "monte_carlo") return 0;  // rank 0 solves it
   const int status = s.opt.task == "design"        ? design(s)

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "common.hpp"
+#include "mo/symbolic/loop_inputs.hpp"
 #include "mo/runtime/design.hpp"
 #include "mo/runtime/estimate.hpp"
 #include "study.hpp"
@@ -21,10 +22,29 @@ struct Study {
   StudyOptions opt;
   ProblemOutputs problem;
   BuiltModel built;
+  /// Iteration variables of nonlinear blocks turned into inputs (nonlinear_blocks = "nlp").
+  symbolic::LoopExposure loops{};
+  /// With loops: the model as lowered, Newton inside, with the iteration variables
+  /// as outputs, for the initial guess of those variables (null without loops).
+  std::unique_ptr<BuiltModel> newton{};
   /// Estimates for monte_carlo; empty: runtime::estimate_parameters on `built` (a model with events sets it).
   std::function<runtime::EstimationResult(const runtime::EstimationProblem&)> estimate{};
   [[nodiscard]] const runtime::ModelInfo& info() const { return built.model->info(); }
 };
+
+/// Per-input blocking factors and du_bounds of the options on `p`'s controls;
+/// UsageError for an input that is not a control or a malformed entry.
+void apply_control_options(const Study& s, runtime::OptimalControlProblem& p);
+/// Initial guesses from the option init_result (states by name, controls by
+/// input name, iteration variables by their variable's name); returns how many
+/// columns were used. UsageError if the file cannot be read or matches nothing.
+std::size_t apply_init_result(const Study& s, runtime::OptimalControlProblem& p);
+/// With init_traj and s.newton: the iteration variables' initial guesses from a
+/// simulation of the model with Newton under the controls' initial guesses, so
+/// that the NLP's own initial-guess simulation (which takes them as given
+/// signals) follows the model. A failed simulation leaves the start values, with
+/// a note on stderr.
+void guess_iteration_variables(const Study& s, runtime::OptimalControlProblem& p);
 
 /// Index of output `name`; UsageError listing the outputs otherwise.
 std::size_t output_index(const runtime::ModelInfo& info, const std::string& name);

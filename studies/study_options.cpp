@@ -123,6 +123,14 @@ Setter flag_of(bool StudyOptions::*field) {
   };
 }
 
+Setter text_of(std::string StudyOptions::*field) {
+  return [field](const Value& v, StudyOptions& o) -> std::string {
+    if (v.kind != Value::String) return "expects a string";
+    o.*field = v.text;
+    return {};
+  };
+}
+
 Setter choice_of(std::string StudyOptions::*field, std::vector<std::string> allowed) {
   return [field, allowed](const Value& v, StudyOptions& o) -> std::string {
     for (const auto& a : allowed)
@@ -185,6 +193,20 @@ Setter starts_of() {
   };
 }
 
+/// `blocking_factors`: numbers (every control) or strings "input=f1,f2,..." (per input).
+Setter blocking_of() {
+  return [](const Value& v, StudyOptions& o) -> std::string {
+    const std::vector<Value> one{v};
+    const auto& items = v.kind == Value::List ? v.items : one;
+    const bool named = !items.empty() && items.front().kind == Value::String;
+    for (const Value& item : items)
+      if ((item.kind == Value::String) != named)
+        return "expects a list of numbers, or of strings \"input=f1,f2,...\"";
+    if (!named) return numbers_of(&StudyOptions::blocking_factors)(v, o);
+    return strings_of(&StudyOptions::input_blocking_factors)(v, o);
+  };
+}
+
 const std::map<std::string, Setter>& setters() {
   using S = StudyOptions;
   static const std::map<std::string, Setter> table = {
@@ -193,9 +215,13 @@ const std::map<std::string, Setter>& setters() {
       {"n_cp", integer_of(&S::n_cp, 1)},
       {"scheme", choice_of(&S::scheme, {"radau", "gauss"})},
       {"element_lengths", numbers_of(&S::element_lengths)},
-      {"blocking_factors", numbers_of(&S::blocking_factors)},
+      {"blocking_factors", blocking_of()},
+      {"du_bounds", strings_of(&S::du_bounds)},
+      {"piecewise_constant_controls", flag_of(&S::piecewise_constant_controls)},
+      {"init_result", text_of(&S::init_result)},
       {"init_traj", flag_of(&S::init_traj)},
       {"nominal_traj", flag_of(&S::nominal_traj)},
+      {"nonlinear_blocks", choice_of(&S::nonlinear_blocks, {"nlp", "newton"})},
       {"hessian", choice_of(&S::hessian, {"automatic", "exact", "limited_memory"})},
       {"tol", number_of(&S::tol)},
       {"max_iter", integer_of(&S::max_iter, 0)},

@@ -33,9 +33,21 @@ struct StudyOptions {
   std::string scheme = "radau";          ///< radau | gauss
   std::vector<double> element_lengths;   ///< relative lengths, n_e of them; empty: uniform
   std::vector<int> blocking_factors;     ///< elements per control value; empty: one per element
+  /// Per input, "name=f1,f2,..." (JModelica's blocking_factors as a dict): that
+  /// control's blocking factors, over `blocking_factors`.
+  std::vector<std::string> input_blocking_factors;
+  /// false: a control without blocking factors takes one value per collocation point
+  /// (JModelica's default), not one per element (optimal_control only).
+  bool piecewise_constant_controls = true;
+  std::vector<std::string> du_bounds;    ///< per input, "name=d": |u_{β+1} − u_β| ≤ d
+  std::string init_result;               ///< result file (CSV, Dymola text) for initial guesses
   std::string hessian = "automatic";     ///< automatic | exact | limited_memory
   bool init_traj = true;                 ///< states start from a simulation of the initial inputs
   bool nominal_traj = true;              ///< scale states by that simulation's magnitudes
+  /// optimal_control: "nlp" keeps the iteration variables of nonlinear blocks as NLP
+  /// unknowns at every collocation point (their residuals as equality constraints);
+  /// "newton" solves the blocks by Newton inside each model evaluation.
+  std::string nonlinear_blocks = "nlp";
   double tol = 1e-8;                     ///< Ipopt tol
   int max_iter = 1000;                   ///< Ipopt max_iter
   double max_cpu_time = 1e6;             ///< Ipopt max_cpu_time, seconds

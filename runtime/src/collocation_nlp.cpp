@@ -25,8 +25,13 @@ std::vector<double> normalised_lengths(const CollocationOptions& c) {
   return out;
 }
 
-std::vector<int> element_blocks(const FreeControl& c, int n_e) {
+std::vector<int> element_blocks(const FreeControl& c, int n_e, int n_cp) {
   std::vector<int> block;
+  if (c.per_point) {
+    if (!c.blocking_factors.empty()) throw ProblemError("a per-point control takes no blocking factors");
+    for (int i = 0; i < n_e; ++i) block.push_back(i * n_cp);
+    return block;
+  }
   if (c.blocking_factors.empty()) {
     for (int i = 0; i < n_e; ++i) block.push_back(i);
     return block;
@@ -145,8 +150,8 @@ void CollocationNlp::layout_experiment(Experiment& ex) {
     for (int k = 0; k < nodes; ++k) add_node(false);
   add_node(true);
   for (const FreeControl& c : ex.setup.controls) {
-    ex.control_block.push_back(element_blocks(c, n_e));
-    int blocks = ex.control_block.back().back() + 1;
+    ex.control_block.push_back(element_blocks(c, n_e, num_points()));
+    const int blocks = c.per_point ? n_e * num_points() : ex.control_block.back().back() + 1;
     ex.control_offset.push_back(add_variables(blocks, c.bounds, std::clamp(0.0, c.bounds.lo, c.bounds.hi)));
   }
 }
@@ -161,6 +166,10 @@ int CollocationNlp::control_var(int e, int c, int i) const {
   return ex.control_offset[c] + ex.control_block[c][i];
 }
 
+int CollocationNlp::control_point_var(int e, int c, int i, int j) const {
+  return control_var(e, c, i) + j;
+}
+
 double CollocationNlp::element_start(int e, int i) const {
   return experiments_[e].element_start[i];
 }
@@ -169,7 +178,8 @@ double CollocationNlp::element_length(int e, int i) const {
 }
 
 PointRef CollocationNlp::point(int e, int i, double tau) const {
-  return PointRef{e, i, tau, element_start(e, i) + tau * element_length(e, i), poly_.basis(tau)};
+  return PointRef{e, i, tau, element_start(e, i) + tau * element_length(e, i), poly_.basis(tau),
+                  lagrange_weights(collocation_points(), tau)};
 }
 
 PointRef CollocationNlp::point_at(int e, double t) const {
@@ -194,8 +204,16 @@ void CollocationNlp::point_state(std::span<const double> v, const PointRef& pt,
 void CollocationNlp::point_inputs(std::span<const double> v, const PointRef& pt,
                                   std::span<double> u) const {
   const ExperimentSetup& s = experiments_[pt.experiment].setup;
-  for (std::size_t c = 0; c < s.controls.size(); ++c)
-    u[s.controls[c].input] = v[control_var(pt.experiment, int(c), pt.element)];
+  for (std::size_t c = 0; c < s.controls.size(); ++c) {
+    if (!s.controls[c].per_point) {
+      u[s.controls[c].input] = v[control_var(pt.experiment, int(c), pt.element)];
+      continue;
+    }
+    double sum = 0.0;
+    for (std::size_t j = 0; j < pt.point_basis.size(); ++j)
+      sum += pt.point_basis[j] * v[control_point_var(pt.experiment, int(c), pt.element, int(j))];
+    u[s.controls[c].input] = sum;
+  }
   for (const auto& [input, signal] : s.fixed_inputs)  // left limit at the element's end
     u[input] = pt.tau == 1.0 ? signal->value_before(pt.time) : signal->value(pt.time);
 }
@@ -214,8 +232,16 @@ VariableMap CollocationNlp::variable_map(const PointRef& pt) const {
       if (pt.basis[k] != 0.0)
         map[s].emplace_back(state_var(pt.experiment, pt.element, int(k), int(s)), pt.basis[k]);
   const ExperimentSetup& s = experiments_[pt.experiment].setup;
-  for (std::size_t c = 0; c < s.controls.size(); ++c)
-    map[nx + s.controls[c].input].emplace_back(control_var(pt.experiment, int(c), pt.element), 1.0);
+  for (std::size_t c = 0; c < s.controls.size(); ++c) {
+    auto& entry = map[nx + s.controls[c].input];
+    if (!s.controls[c].per_point) {
+      entry.emplace_back(control_var(pt.experiment, int(c), pt.element), 1.0);
+      continue;
+    }
+    for (std::size_t j = 0; j < pt.point_basis.size(); ++j)
+      if (pt.point_basis[j] != 0.0)
+        entry.emplace_back(control_point_var(pt.experiment, int(c), pt.element, int(j)), pt.point_basis[j]);
+  }
   for (std::size_t j = 0; j < parameter_var_.size(); ++j)
     if (parameter_var_[j] >= 0) map[nx + nu + j].emplace_back(parameter_var_[j], 1.0);
   return map;

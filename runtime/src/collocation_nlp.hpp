@@ -55,6 +55,7 @@ struct PointRef {
   double tau = 0.0;
   double time = 0.0;
   std::vector<double> basis;  ///< ℓ_k(τ), k = 0..K
+  std::vector<double> point_basis;  ///< per-point controls: Lagrange weights of τ_1..τ_K at τ
 };
 
 /// z = (x, u, p) of a point mapped to NLP variables: z_a = Σ coeff·v[var] (+ constants).
@@ -126,8 +127,14 @@ public:
   [[nodiscard]] const Model& model(int e) const { return *models_[static_cast<std::size_t>(e)]; }
   /// Variable of state s at node k (0 = element start) of element i; i = n_e, k = 0 is b_{n_e}.
   [[nodiscard]] int state_var(int e, int i, int k, int s) const;
-  /// Variable of control c on element i.
+  /// Variable of control c on element i (of a per-point control: its first point).
   [[nodiscard]] int control_var(int e, int c, int i) const;
+  /// Variable of per-point control c at collocation point j (0..n_cp−1) of element i.
+  [[nodiscard]] int control_point_var(int e, int c, int i, int j) const;
+  /// The collocation points τ_1..τ_K (without τ_0 = 0).
+  [[nodiscard]] std::vector<double> collocation_points() const {
+    return {poly_.tau.begin() + 1, poly_.tau.end()};
+  }
   /// Variable of parameter j, or −1 if it is fixed.
   [[nodiscard]] int parameter_var(std::size_t j) const { return parameter_var_[j]; }
   /// Appends `count` variables; returns the first index.
@@ -209,6 +216,7 @@ private:
   void check_setup();
   void layout_experiment(Experiment& ex);
   void initial_guess_from_simulation(int e);
+  void apply_state_guesses(int e);
   void scale_by_trajectory(int e, const ResultTable& trajectory);
 
   NlpSetup setup_;

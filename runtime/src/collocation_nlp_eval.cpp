@@ -168,7 +168,13 @@ void CollocationNlp::initial_guess_from_simulation(int e) {
     signals[fc.input] = fc.initial_guess ? fc.initial_guess
                                          : std::shared_ptr<const InputSignal>(constant_input(
                                                std::clamp(0.0, fc.bounds.lo, fc.bounds.hi)));
-    for (int i = 0; i < num_elements(); ++i) {  // control guess: the signal at the block's midpoint
+    for (int i = 0; i < num_elements() && fc.per_point; ++i)  // at each collocation point
+      for (int j = 0; j < num_points(); ++j) {
+        const double t = element_start(e, i) + poly_.tau[std::size_t(j) + 1] * element_length(e, i);
+        initial_[std::size_t(control_point_var(e, int(c), i, j))] =
+            std::clamp(signals[fc.input]->value(t), fc.bounds.lo, fc.bounds.hi);
+      }
+    for (int i = 0; i < num_elements() && !fc.per_point; ++i) {  // the signal at the block's midpoint
       double mid = element_start(e, i) + 0.5 * element_length(e, i);
       initial_[std::size_t(control_var(e, int(c), i))] =
           std::clamp(signals[fc.input]->value(mid), fc.bounds.lo, fc.bounds.hi);
@@ -188,6 +194,7 @@ void CollocationNlp::initial_guess_from_simulation(int e) {
       for (int k = 0; k < (i < num_elements() ? num_points() + 1 : 1); ++k)
         for (std::size_t st = 0; st < x0.size(); ++st)
           initial_[std::size_t(state_var(e, i, k, int(st)))] = x0[st];
+    apply_state_guesses(e);
     return;
   }
   SimulationOptions options;
@@ -202,6 +209,20 @@ void CollocationNlp::initial_guess_from_simulation(int e) {
   }
   model(e).initial_state(p, x0);  // reset the discrete variables
   if (setup_.collocation.nominal_traj) scale_by_trajectory(e, sim.trajectory);
+  apply_state_guesses(e);
+}
+
+void CollocationNlp::apply_state_guesses(int e) {
+  const auto& guesses = setup_.collocation.state_guesses;
+  for (std::size_t st = 0; st < guesses.size() && st < info().states.size(); ++st) {
+    if (!guesses[st]) continue;
+    for (int i = 0; i <= num_elements(); ++i)
+      for (int k = 0; k < (i < num_elements() ? num_points() + 1 : 1); ++k) {
+        const double t = i < num_elements() ? element_start(e, i) + poly_.tau[std::size_t(k)] * element_length(e, i)
+                                            : experiments_[std::size_t(e)].setup.tf;
+        initial_[std::size_t(state_var(e, i, k, int(st)))] = guesses[st]->value(t);
+      }
+  }
 }
 
 void CollocationNlp::scale_by_trajectory(int e, const ResultTable& trajectory) {

@@ -221,6 +221,59 @@ std::unique_ptr<InputSignal> piecewise_constant_input(std::vector<double> times,
   return std::make_unique<PiecewiseConstantSignal>(std::move(times), std::move(values));
 }
 
+std::vector<double> lagrange_weights(const std::vector<double>& points, double tau) {
+  std::vector<double> w(points.size(), 1.0);
+  for (std::size_t j = 0; j < points.size(); ++j)
+    for (std::size_t m = 0; m < points.size(); ++m)
+      if (m != j) w[j] *= (tau - points[m]) / (points[j] - points[m]);
+  return w;
+}
+
+namespace {
+
+class CollocatedSignal final : public InputSignal {
+public:
+  CollocatedSignal(std::vector<double> starts, double end, std::vector<double> points,
+                   std::vector<double> values)
+      : starts_(std::move(starts)), end_(end), points_(std::move(points)), values_(std::move(values)) {}
+  double value(double t) const override { return at(t, false); }
+  double value_before(double t) const override { return at(t, true); }
+  std::vector<double> breakpoints(double t0, double t1) const override {
+    std::vector<double> out;
+    for (std::size_t i = 1; i < starts_.size(); ++i)
+      if (starts_[i] > t0 && starts_[i] < t1) out.push_back(starts_[i]);
+    return out;
+  }
+
+private:
+  double at(double t, bool left) const {
+    auto it = left ? std::lower_bound(starts_.begin(), starts_.end(), t)
+                   : std::upper_bound(starts_.begin(), starts_.end(), t);
+    const std::size_t i = it == starts_.begin() ? 0 : std::size_t(it - starts_.begin()) - 1;
+    const double next = i + 1 < starts_.size() ? starts_[i + 1] : end_;
+    const double tau = (t - starts_[i]) / (next - starts_[i]);
+    const std::vector<double> w = lagrange_weights(points_, tau);
+    double sum = 0.0;
+    for (std::size_t j = 0; j < w.size(); ++j) sum += w[j] * values_[i * points_.size() + j];
+    return sum;
+  }
+  std::vector<double> starts_;
+  double end_;
+  std::vector<double> points_, values_;
+};
+
+}  // namespace
+
+std::unique_ptr<InputSignal> collocated_input(std::vector<double> starts, double end,
+                                              std::vector<double> points, std::vector<double> values) {
+  if (starts.empty() || points.empty() || values.size() != starts.size() * points.size())
+    throw std::invalid_argument("collocated_input: need points.size() values per element");
+  for (std::size_t k = 1; k < starts.size(); ++k)
+    if (!(starts[k] > starts[k - 1])) throw std::invalid_argument("collocated_input: element starts must ascend");
+  if (!(end > starts.back())) throw std::invalid_argument("collocated_input: end must follow the last start");
+  return std::make_unique<CollocatedSignal>(std::move(starts), end, std::move(points), std::move(values));
+}
+
 InputTable parse_input_csv(std::string_view text, const std::string& source) {
   InputTable table;
   bool have_header = false;

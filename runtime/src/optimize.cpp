@@ -2,6 +2,7 @@
 #include "mo/runtime/optimize.hpp"
 
 #include "optimize_internal.hpp"
+#include "control_changes.hpp"
 #include "output_terms.hpp"
 
 #include <chrono>
@@ -66,6 +67,7 @@ void add_problem_terms(CollocationNlp& nlp, const OptimalControlProblem& problem
   }
   if (!objective.empty()) nlp.add_objective(std::make_unique<WeightedOutputs>(std::move(objective)));
   if (!rows.empty()) nlp.add_constraints(std::make_unique<OutputConstraints>(std::move(rows)));
+  if (ControlChanges::needed(nlp, e)) nlp.add_constraints(std::make_unique<ControlChanges>(nlp, e));
 }
 
 OptimizationResult invalid_problem_result(const std::string& message) {

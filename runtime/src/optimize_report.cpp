@@ -21,7 +21,10 @@ Inputs inputs_for(const std::map<std::size_t, std::shared_ptr<const InputSignal>
   for (const auto& [input, signal] : fixed) signals[input] = shared_input(signal);
   std::vector<double> starts(result.element_times.begin(), result.element_times.end() - 1);
   for (std::size_t c = 0; c < controls.size(); ++c)
-    signals[controls[c].input] = piecewise_constant_input(starts, result.control_values[c]);
+    signals[controls[c].input] =
+        controls[c].per_point ? collocated_input(starts, result.element_times.back(), result.collocation_points,
+                                                 result.control_values[c])
+                              : piecewise_constant_input(starts, result.control_values[c]);
   return Inputs(std::move(signals));
 }
 
@@ -133,10 +136,13 @@ OptimizationResult collect_result(CollocationNlp& nlp, const IpoptOutcome& outco
   }
   r.element_times.push_back(nlp.experiment(e).tf);
   add_node(nlp.num_elements(), 0, 1.0);  // b_{n_e}; inputs of the last element
+  r.collocation_points = nlp.collocation_points();
   for (std::size_t c = 0; c < nlp.experiment(e).controls.size(); ++c) {
     r.control_values.emplace_back();
+    const int per_element = nlp.experiment(e).controls[c].per_point ? nlp.num_points() : 1;
     for (int i = 0; i < nlp.num_elements(); ++i)
-      r.control_values.back().push_back(v[std::size_t(nlp.control_var(e, int(c), i))]);
+      for (int j = 0; j < per_element; ++j)
+        r.control_values.back().push_back(v[std::size_t(nlp.control_var(e, int(c), i) + j)]);
   }
   auto start = std::chrono::steady_clock::now();
   r.check = resimulate(nlp, e, r, path);

@@ -116,3 +116,20 @@ TEST_CASE("CSV table errors name file and line", "[input][errors]") {
     CHECK(std::string(e.what()) == "/nonexistent/dir/in.csv:1: error: cannot open file");
   }
 }
+
+TEST_CASE("Collocated input: the polynomial through each element's points", "[input]") {
+  // Two elements [0, 1), [1, 3]; points τ = 1/3, 1: values of t² on the first
+  // (a line through them), of 5 − t on the second.
+  const std::vector<double> points{1.0 / 3.0, 1.0};
+  const double a = 1.0 / 9.0, b = 1.0;  // t² at t = 1/3 and 1
+  const auto s = collocated_input({0.0, 1.0}, 3.0, points, {a, b, 5.0 - 5.0 / 3.0, 2.0});
+  CHECK(s->value(1.0 / 3.0) == Approx(a));
+  CHECK(s->value(0.0) == Approx(a - (b - a) / 2));       // extrapolated to τ = 0
+  CHECK(s->value_before(1.0) == Approx(b));             // left of the boundary: the first element
+  CHECK(s->value(1.0) == Approx(5.0 - 1.0));            // the second element's line at τ = 0
+  CHECK(s->value(2.0) == Approx(3.0));
+  CHECK(s->breakpoints(0.0, 3.0) == std::vector<double>{1.0});
+  const auto w = lagrange_weights(points, 0.5);
+  CHECK(w[0] + w[1] == Approx(1.0));
+  CHECK_THROWS_AS(collocated_input({0.0}, 1.0, points, {1.0}), std::invalid_argument);
+}

@@ -52,6 +52,15 @@ std::unique_ptr<InputSignal> shared_input(std::shared_ptr<const InputSignal> sig
 /// equal and non-zero and times strictly ascend.
 std::unique_ptr<InputSignal> piecewise_constant_input(std::vector<double> times,
                                                       std::vector<double> values);
+/// Piecewise polynomial: on element i ([starts[i], starts[i+1]), the last one
+/// unbounded), the polynomial in τ = (t − starts[i])/length_i through the values
+/// values[i·K + j] at τ = points[j] (K = points.size(); length_i of the last
+/// element is `end − starts.back()`). A per-point control of a collocation
+/// result. Throws std::invalid_argument on inconsistent sizes or times.
+std::unique_ptr<InputSignal> collocated_input(std::vector<double> starts, double end,
+                                              std::vector<double> points, std::vector<double> values);
+/// ℓ_j(τ), j = 0..K−1: the Lagrange basis over `points` at τ (1 for K = 1).
+std::vector<double> lagrange_weights(const std::vector<double>& points, double tau);
 
 /// A table of sampled inputs: one time column and named value columns.
 /// Linear interpolation between rows, held constant before the first and after
@@ -76,6 +85,17 @@ public:
 InputTable read_input_csv(const std::string& path);
 /// Same as read_input_csv on text already in memory; `source_name` is used in messages.
 InputTable parse_input_csv(std::string_view text, const std::string& source_name);
+
+/// A simulation or optimisation result read as a table of signals, for initial
+/// guesses: a CSV file (as read_input_csv: mocompile's result.csv or
+/// trajectories.csv), or Dymola's textual result format (first line `#1`, then
+/// the matrices Aclass, name, description, dataInfo, data_1 and data_2 as text;
+/// Dymola's and JModelica's `.txt` results): every variable becomes a column,
+/// those of data_1 (parameters) constant, negated aliases (a negative dataInfo
+/// column) negated. A time that repeats more than twice keeps its first and
+/// last rows. Throws InputFileError naming the file on anything else (a binary
+/// `.mat` file included) or on a malformed matrix.
+InputTable read_result_table(const std::string& path);
 
 /// The signal of column `column` of `table` (shared, not copied).
 /// Throws std::out_of_range if the column does not exist.

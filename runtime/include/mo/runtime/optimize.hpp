@@ -44,6 +44,15 @@ struct FreeControl {
   /// Elements per control value (JModelica's blocking_factors), summing to n_e;
   /// empty means one value per element.
   std::vector<int> blocking_factors;
+  /// One value at every collocation point instead of one per element: an
+  /// algebraic variable kept as an NLP unknown (the iteration variable of a
+  /// nonlinear block, see symbolic/loop_inputs.hpp). Between the points of an
+  /// element the value is the polynomial through them (degree n_cp − 1);
+  /// blocking_factors must be empty; the initial guess is sampled at each point.
+  bool per_point = false;
+  /// |u_{β+1} − u_β| ≤ max_change between consecutive values (blocks, or points of
+  /// a per-point control): JModelica's du_bounds. Infinite: no bound.
+  double max_change = std::numeric_limits<double>::infinity();
 };
 
 /// A parameter that the optimiser chooses.
@@ -109,6 +118,10 @@ struct CollocationOptions {
   /// rows by the largest |x| of that simulation (the nominal attribute where that
   /// is below 1% of it); false uses the nominal attribute. Needs init_traj.
   bool nominal_traj = true;
+  /// Initial guesses of states by state index (null or missing: none), e.g. from
+  /// a result file (JModelica's init_traj given a result): the state's variables
+  /// at every node take the signal's value, over the simulation's or start value.
+  std::vector<std::shared_ptr<const InputSignal>> state_guesses;
 };
 
 /// One Ipopt iteration, as reported to the progress callback.
@@ -242,8 +255,12 @@ struct OptimizationResult {
   ResultTable trajectories;
   std::vector<double> parameters;  ///< all parameter values at the returned point
   std::vector<double> element_times;  ///< t0 = τ_0 < ... < τ_ne = tf
-  /// Per FreeControl: the value on each element (n_e values).
+  /// Per FreeControl: the value on each element (n_e values); for a per-point
+  /// control the values at the collocation points, element by element (n_e·n_cp).
   std::vector<std::vector<double>> control_values;
+  /// The collocation points in [0, 1] of the scheme used (n_cp of them), with
+  /// which per-point control values are interpolated.
+  std::vector<double> collocation_points;
   ResimulationCheck check;  ///< replay of the optimal input on CVODES
 
   /// True if status is success or acceptable.
