@@ -78,7 +78,11 @@ InputDesignResult design_once(const Model& model, const InputDesignProblem& prob
                        : add_trajectory_criterion(nlp, problem);
   double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const bool exact = ocp.solver.hessian != HessianMode::limited_memory && nlp.exact_hessian_possible();
-  detail::IpoptOutcome outcome = detail::solve_with_ipopt(nlp, ocp.solver);
+  // MUMPS's own scaling misjudges the inertia of the design's KKT matrices
+  // (docs/design-formulation.md, "Linear algebra"); the NLP is scaled by us.
+  SolverOptions solver = ocp.solver;
+  solver.mumps_scaling = false;
+  detail::IpoptOutcome outcome = detail::solve_with_ipopt(nlp, solver);
   out.optimization = detail::collect_result(nlp, outcome, 0, ocp.path_constraints);
   out.optimization.timings.nlp_build = build;
   out.fisher_collocation = fisher(outcome.solution);

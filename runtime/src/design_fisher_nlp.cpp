@@ -67,6 +67,7 @@ LiftedFisher::LiftedFisher(CollocationNlp& nlp, const MeasurementDesign& m,
     for (std::size_t out : row)
       for (int z : output_dependencies(nlp.model(0), out)) deps.insert(z);
   deps_.assign(deps.begin(), deps.end());
+  record_patterns(nlp.model(0));
   Eigen::MatrixXd f0 = trajectory_fisher(nlp, nlp.initial_guess());
   magnitude_ = std::max(1.0, f0.cwiseAbs().maxCoeff());
   if (positive_start) {  // A and D need a positive definite F to be evaluated at all
@@ -87,6 +88,34 @@ LiftedFisher::LiftedFisher(CollocationNlp& nlp, const MeasurementDesign& m,
   for (int a = 0; a < n_; ++a)
     for (int b = 0; b <= a; ++b) guess[std::size_t(f_var(a, b))] = f0(a, b);
   nlp.set_initial_guess(std::move(guess));
+}
+
+void LiftedFisher::record_patterns(const Model& model) {
+  auto position = [&](int z) {
+    return int(std::lower_bound(deps_.begin(), deps_.end(), z) - deps_.begin());
+  };
+  // of[r][a]: positions in deps_ of output s_ra's dependencies
+  std::vector<std::vector<std::vector<int>>> of(sens_.size());
+  for (std::size_t r = 0; r < sens_.size(); ++r)
+    for (std::size_t out : sens_[r]) {
+      of[r].emplace_back();
+      for (int z : output_dependencies(model, out)) of[r].back().push_back(position(z));
+    }
+  std::set<std::pair<int, int>> pairs;
+  for (int a = 0; a < n_; ++a)
+    for (int b = 0; b <= a; ++b) {
+      std::set<int> row;
+      for (std::size_t r = 0; r < sens_.size(); ++r) {
+        const auto& da = of[r][std::size_t(a)];
+        const auto& db = of[r][std::size_t(b)];
+        row.insert(da.begin(), da.end());
+        row.insert(db.begin(), db.end());
+        for (int c : da)
+          for (int d : db) pairs.insert({std::max(c, d), std::min(c, d)});
+      }
+      row_deps_.emplace_back(row.begin(), row.end());
+    }
+  gn_pairs_.assign(pairs.begin(), pairs.end());
 }
 
 double LiftedFisher::nominal(int a, int b) const {
@@ -154,8 +183,9 @@ void LiftedFisher::jacobian(CollocationNlp& nlp, std::span<const double> v, int 
     VariableMap map = nlp.variable_map(pt);
     for (int a = 0; a < n_; ++a)
       for (int b = 0; b <= a; ++b) {
-        const int row = row0 + a * (a + 1) / 2 + b;
-        for (int z : deps_) {  // ∂/∂z of −Σ_r w_r s_ra s_rb
+        const int packed = a * (a + 1) / 2 + b, row = row0 + packed;
+        for (int c : row_deps_[std::size_t(packed)]) {  // ∂/∂z of −Σ_r w_r s_ra s_rb
+          const int z = deps_[std::size_t(c)];
           double d = 0.0;
           for (std::size_t r = 0; r < sens_.size(); ++r)
             d -= weight_[r] * (s(Eigen::Index(r), a) * j(Eigen::Index(sens_[r][std::size_t(b)]), z) +
@@ -191,11 +221,15 @@ void LiftedFisher::hessian(CollocationNlp& nlp, std::span<const double> v,
       for (int a = 0; a < n_; ++a) mu[sens_[r][std::size_t(a)]] -= 2.0 * weight_[r] * m[a];
     }
     VariableMap map = nlp.variable_map(pt);
-    for (Eigen::Index a = 0; a < nd; ++a)
-      for (Eigen::Index b = 0; b < nd; ++b)
-        for (auto [va, ca] : map[std::size_t(deps_[std::size_t(a)])])
-          for (auto [vb, cb] : map[std::size_t(deps_[std::size_t(b)])])
-            if (va >= vb) hess.add(va, vb, gauss_newton(a, b) * ca * cb);
+    auto add = [&](int a, int b) {  // both orders of the symmetric term, lower triangle
+      for (auto [va, ca] : map[std::size_t(deps_[std::size_t(a)])])
+        for (auto [vb, cb] : map[std::size_t(deps_[std::size_t(b)])])
+          if (va >= vb) hess.add(va, vb, gauss_newton(a, b) * ca * cb);
+    };
+    for (auto [a, b] : gn_pairs_) {
+      add(a, b);
+      if (a != b) add(b, a);
+    }
     nlp.add_model_hessian(Hessian::h, v, pt, mu, 1.0, hess);
   }
 }

@@ -56,6 +56,8 @@ public:
   [[nodiscard]] double nominal(int a, int b) const;
 
 private:
+  /// row_deps_ and gn_pairs_ from the outputs' dependencies.
+  void record_patterns(const Model& model);
   /// s (measured outputs × parameters) at one sample.
   Eigen::MatrixXd sensitivities(CollocationNlp& nlp, std::span<const double> v,
                                 const PointRef& pt) const;
@@ -64,6 +66,12 @@ private:
   std::vector<double> weight_;                   // 1/σ_r²
   std::vector<std::vector<std::size_t>> sens_;   // [r][a] → output index
   std::vector<int> deps_;                        // z-indices the s outputs depend on
+  // Per row (a, b), the positions in deps_ that s_ra or s_rb depend on for some
+  // r: the row's Jacobian pattern, without the other parameters' columns.
+  std::vector<std::vector<int>> row_deps_;
+  // (c, d) positions in deps_ (c ≥ d) coupled by some J_raᵀ J_rb: the
+  // Gauss–Newton term's pattern.
+  std::vector<std::pair<int, int>> gn_pairs_;
   std::vector<double> nominal_;                  // per F variable (packed)
   int n_ = 0, f_ = 0;
   double magnitude_ = 1.0;

@@ -50,10 +50,15 @@ struct Retry {
   std::function<void(Ipopt::OptionsList&, bool& user_scaling)> apply;
 };
 
-std::vector<Retry> retries() {
+std::vector<Retry> retries(bool mumps_scaling) {
+  Retry other_scaling =
+      mumps_scaling
+          ? Retry{"mumps_scaling 0 (no MUMPS scaling)",
+                  [](Ipopt::OptionsList& o, bool&) { o.SetIntegerValue("mumps_scaling", 0); }}
+          : Retry{"mumps_scaling 77 (MUMPS's automatic scaling)",
+                  [](Ipopt::OptionsList& o, bool&) { o.SetIntegerValue("mumps_scaling", 77); }};
   return {
-      {"mumps_scaling 0 (no MUMPS scaling)",
-       [](Ipopt::OptionsList& o, bool&) { o.SetIntegerValue("mumps_scaling", 0); }},
+      std::move(other_scaling),
       {"mumps_mem_percent 5000 (more MUMPS working memory)",
        [](Ipopt::OptionsList& o, bool&) { o.SetIntegerValue("mumps_mem_percent", 5000); }},
       {"other NLP scaling (user-scaling <-> gradient-based)",
@@ -62,6 +67,13 @@ std::vector<Retry> retries() {
          o.SetStringValue("nlp_scaling_method", user ? "user-scaling" : "gradient-based");
        }},
   };
+}
+
+// Whether the first attempt uses MUMPS's scaling (`ipopt_options` may override it).
+bool mumps_scaling_in(const SolverOptions& options) {
+  auto it = options.ipopt_options.find("mumps_scaling");
+  if (it == options.ipopt_options.end()) return options.mumps_scaling;
+  return std::strtol(it->second.c_str(), nullptr, 10) != 0;
 }
 
 bool retryable(OptimizationStatus s) {
@@ -81,6 +93,7 @@ void set_options(Ipopt::OptionsList& o, const SolverOptions& options, bool exact
   o.SetStringValue("sb", "yes");  // no banner
   o.SetStringValue("hessian_approximation", exact_hessian ? "exact" : "limited-memory");
   o.SetStringValue("nlp_scaling_method", user_scaling ? "user-scaling" : "gradient-based");
+  o.SetIntegerValue("mumps_scaling", options.mumps_scaling ? 77 : 0);
   for (const auto& [name, value] : options.ipopt_options) {
     char* end = nullptr;
     long as_int = std::strtol(value.c_str(), &end, 10);
@@ -149,7 +162,7 @@ IpoptOutcome solve_with_ipopt(CollocationNlp& nlp, const SolverOptions& options)
   }
   bool user_scaling = options.scale_by_nominal;
   auto start = std::chrono::steady_clock::now();
-  std::vector<Retry> changes = retries();
+  std::vector<Retry> changes = retries(mumps_scaling_in(options));
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->RethrowNonIpoptException(false);
   set_options(*app->Options(), options, exact, user_scaling);

@@ -156,6 +156,11 @@ struct SolverOptions {
   int print_level = 0;    ///< Ipopt console print level (0 = silent)
   ProgressCallback progress;  ///< per-iteration callback, may be empty
   bool scale_by_nominal = true;  ///< user scaling 1/nominal for states (else gradient-based)
+  /// MUMPS's own scaling of the KKT matrix (Ipopt `mumps_scaling` 77, else 0).
+  /// Input design turns it off: on its KKT matrices MUMPS's symmetric
+  /// matching-based scaling with Ipopt's pivot tolerance 1e-6 reports a wrong
+  /// inertia (docs/design-formulation.md, "Linear algebra").
+  bool mumps_scaling = true;
   /// Retry with other linear-solver/scaling options when the step computation,
   /// restoration or memory fails.
   bool retry_on_solver_failure = true;
