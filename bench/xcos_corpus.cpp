@@ -171,14 +171,30 @@ std::optional<std::vector<double>> column(const runtime::ResultTable& t, const s
   return std::nullopt;
 }
 
-/// The reference columns compared: states, algebraic variables, outputs.
-bool compared_column(const Reference& ref, const std::string& name) {
+/// The kind of a reference column ("state", "algebraic", "output", "input",
+/// "time"), "" when the json does not list it.
+std::string column_kind(const Reference& ref, const std::string& name) {
   const auto& kinds = ref.meta["column_kinds"];
   const auto& cols = ref.meta["columns"];
   for (std::size_t c = 0; c < cols.size(); ++c)
-    if (cols[c] == name) return kinds[c] != "input" && kinds[c] != "time";
-  return false;
+    if (cols[c] == name) return kinds[c].get<std::string>();
+  return "";
 }
+
+/// The reference columns compared: states, algebraic variables, outputs.
+bool compared_column(const Reference& ref, const std::string& name) {
+  const std::string kind = column_kind(ref, name);
+  return !kind.empty() && kind != "input" && kind != "time";
+}
+
+/// Whether Scilab ran looser than 1e-6: its states are then known to about
+/// 1e-2 of their range (the issue's tolerance for such runs), and an
+/// algebraic variable only to that error times the model's gain from the
+/// states to it (the Clutch's acceleration is the spring's torque over the
+/// inertia: 42 times the angle's error). Such a run's algebraic columns are
+/// measured and reported, but only its states and outputs must match: the
+/// columns the issue names.
+bool loose_reference(const Reference& ref) { return ref.meta.value("rtol", 1e-6) > 1e-6; }
 
 /// The largest magnitude over the reference's compared columns: what the
 /// model's signals are made of.
@@ -228,9 +244,9 @@ StepResult compare(const Reference& ref, const runtime::ResultTable& got, const 
   const double tol = rtol <= 1e-6 ? 1e-3 : 1e-2;
   const std::size_t all = ref.table.times.size();
   const std::size_t n = std::min(all, predictable_rows(ref, got, fine, tol) + 1);
-  double worst = 0.0;
-  std::string worst_name, missing;
-  std::size_t compared = 0;
+  double worst = 0.0, worst_reported = 0.0;
+  std::string worst_name, worst_reported_name, missing;
+  std::size_t compared = 0, reported = 0;
   for (std::size_t j = 0; j < ref.table.names.size(); ++j) {
     const std::string& name = ref.table.names[j];
     if (!compared_column(ref, name)) continue;
@@ -239,16 +255,19 @@ StepResult compare(const Reference& ref, const runtime::ResultTable& got, const 
       if (missing.empty()) missing = name;
       continue;
     }
+    const bool only_reported = loose_reference(ref) && column_kind(ref, name) == "algebraic";
+    double& w = only_reported ? worst_reported : worst;
+    std::string& w_name = only_reported ? worst_reported_name : worst_name;
     const auto& theirs = ref.table.columns[j];
     const double scale = scale_of(ref, theirs, tol);
     for (std::size_t k = 1; k + 1 < n; ++k) {
       const double e = std::abs((*mine)[k + 1] - theirs[k]) / scale;  // row 0 of ours is t = 0
-      if (!(e <= worst)) {
-        worst = std::isnan(e) ? INFINITY : e;
-        worst_name = fmt::format("{} at t={:.4g}", name, ref.table.times[k]);
+      if (!(e <= w)) {
+        w = std::isnan(e) ? INFINITY : e;
+        w_name = fmt::format("{} at t={:.4g}", name, ref.table.times[k]);
       }
     }
-    ++compared;
+    ++(only_reported ? reported : compared);
   }
   StepResult r{true, missing.empty() && worst <= tol, ""};
   if (!missing.empty())
@@ -256,6 +275,9 @@ StepResult compare(const Reference& ref, const runtime::ResultTable& got, const 
   else
     r.detail = fmt::format("{} columns, max err {:.1e} of range{}", compared, worst,
                            worst > tol ? " (" + worst_name + ")" : "");
+  if (reported > 0)
+    r.detail += fmt::format("; {} algebraic columns of a run at rtol {:g}: max err {:.1e} ({})", reported,
+                            ref.meta.value("rtol", 1e-6), worst_reported, worst_reported_name);
   if (n < all)
     r.detail += fmt::format("; to t={:.4g}, where runs at rtol and rtol/100 part (chaotic)", ref.table.times[n - 1]);
   return r;
@@ -426,6 +448,42 @@ DiagramResult check_diagram_in_process(const std::string& corpus, const std::str
 }
 
 }  // namespace
+
+StepResult check_closed_loop(const std::string& corpus, const std::string& name, const std::string& loop_file,
+                             const std::string& component) {
+  return in_child(1, [&] {
+    Reference ref;
+    try {
+      ref = read_reference(corpus, name);
+    } catch (const std::exception& e) {
+      return std::vector<StepResult>{{true, false, std::string("reference: ") + e.what()}};
+    }
+    tools::ModelSource source;
+    source.file = loop_file;
+    source.libs = aux_files(corpus, name);
+    source.libs.push_back((fs::path(corpus) / "flat" / (name + ".mo")).string());
+    Loaded loop = load(source);
+    if (!loop.model) return std::vector<StepResult>{{true, false, first_lines(loop.errors)}};
+    std::optional<symbolic::OdeModel> ode;
+    const StepResult lowered = lower(*loop.model, ref, ode);
+    if (!ode) return std::vector<StepResult>{lowered};
+    runtime::ResultTable trajectory, fine;
+    const StepResult simulated = simulate(*ode, ref, trajectory, fine);
+    if (!simulated.passed || trajectory.rows() != ref.table.times.size() + 1)
+      return std::vector<StepResult>{{true, false, "simulate: " + simulated.detail}};
+    // The component's columns under the flat file's names.
+    const std::string prefix = component + ".";
+    auto renamed = [&](const runtime::ResultTable& t) {
+      std::vector<std::string> names = t.names();
+      for (auto& n : names)
+        if (n.starts_with(prefix)) n = n.substr(prefix.size());
+      runtime::ResultTable out(std::move(names));
+      for (std::size_t k = 0; k < t.rows(); ++k) out.add_row(t.times()[k], t.row(k));
+      return out;
+    };
+    return std::vector<StepResult>{compare(ref, renamed(trajectory), renamed(fine))};
+  })[0];
+}
 
 std::string table_header() {
   return "| diagram | flat | hier | lower | simulate | compare |\n|---|---|---|---|---|---|\n";

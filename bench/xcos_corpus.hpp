@@ -54,6 +54,16 @@ struct DiagramResult {
 /// compile cache ($XDG_CACHE_HOME). Never throws for a failing diagram.
 DiagramResult check_diagram(const std::string& corpus, const std::string& name, const Libraries& libs);
 
+/// Diagram `name` closed through Modelica copies of its non-Modelica blocks:
+/// `loop_file` holds a model with one component, `component`, of the flat
+/// file's class, and the blocks (in Modelica) that drive its inputs from its
+/// outputs. The loop is simulated without inputs and its `component.X`
+/// columns are compared with the reference's X as in check_diagram. Evidence
+/// for a diagram whose recorded input samples cannot resolve its switching
+/// (docs/xcos-dialect.md); never throws.
+StepResult check_closed_loop(const std::string& corpus, const std::string& name, const std::string& loop_file,
+                             const std::string& component);
+
 /// One Markdown table row: | name | flat | hier | lower | simulate | compare |.
 std::string table_row(const DiagramResult& r);
 

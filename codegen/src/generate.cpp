@@ -225,10 +225,11 @@ std::string hessian_tables(const Program& p) {
 std::string when_tables(const Program& p) {
   std::string out;
   std::vector<int> assign_start{0}, assign_target, assign_value, reinit_start{0}, reinit_state,
-      reinit_value;
+      reinit_value, every_event;
   std::vector<std::string> sections;
   for (const auto& w : p.whens) {
     sections.push_back(fmt::format("section_{}", w.section));
+    every_event.push_back(w.every_event ? 1 : 0);
     for (auto [t, v] : w.assignments) assign_target.push_back(static_cast<int>(t)), assign_value.push_back(static_cast<int>(v));
     for (auto [x, v] : w.reinits) reinit_state.push_back(static_cast<int>(x)), reinit_value.push_back(static_cast<int>(v));
     assign_start.push_back(static_cast<int>(assign_target.size()));
@@ -238,6 +239,7 @@ std::string when_tables(const Program& p) {
     out += array("int", n, v, [](int x) { return std::to_string(x); });
   };
   out += array("SectionFunction", "when_sections", sections, [](const std::string& s) { return s; });
+  ints("when_every_event", every_event);
   ints("when_assign_start", assign_start);
   ints("when_assign_target", assign_target);
   ints("when_assign_value", assign_value);

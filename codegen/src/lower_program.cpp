@@ -280,6 +280,7 @@ private:
     for (std::size_t k = 0; k < m_.whens.size(); ++k) {
       const auto& w = m_.whens[k];
       WhenCode code;
+      code.every_event = w.every_event;
       new_section("when" + std::to_string(k), code.section);
       auto b = builder(after_steps_);
       Section& s = p_.sections[static_cast<std::size_t>(code.section)];

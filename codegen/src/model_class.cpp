@@ -142,10 +142,12 @@ public:
   }
 
   // pre(d) := d; a when-clause fires if its condition is true now and was
-  // false just before. Relations on indicators take their value from the
-  // crossing direction (remembered through the event iteration at one instant);
-  // the value before comes from the opposite direction, or from the previous
-  // handler call at the same instant.
+  // false just before (an every-event clause at every call, so that each
+  // event iteration solves the discrete equations again). Relations on
+  // indicators take their value from the crossing direction (remembered
+  // through the event iteration at one instant); the value before comes from
+  // the opposite direction, or from the previous handler call at the same
+  // instant.
   mo::runtime::EventResponse handle_event(const mo::runtime::EventCause& cause,
                                           std::span<double> x, std::span<const double> u,
                                           std::span<const double> p) override {
@@ -177,7 +179,7 @@ public:
     double* w = w_.data();
     std::fill(fired_.begin(), fired_.end(), 0);
     for (std::size_t k = 0; k < nwhen; ++k) {
-      if (now_[k] == 0.0 || before_[k] != 0.0) continue;
+      if (!when_every_event[k] && (now_[k] == 0.0 || before_[k] != 0.0)) continue;
       fired_[k] = 1;
       when_sections[k](w, nullptr, ws_);
       for (int a = when_assign_start[k]; a < when_assign_start[k + 1]; ++a)

@@ -45,6 +45,9 @@ struct DaeEq {
 /// when-clause with its (continuous-time) condition.
 struct DaeWhen {
   Expr condition;
+  /// An equation `d = expr` of a discrete variable outside when-clauses that
+  /// reads pre(): evaluated at every event iteration (condition unused).
+  bool every_event = false;
   std::vector<Assignment> assignments;  ///< targets are Discrete symbols
   std::vector<std::pair<int, Expr>> reinits;  ///< (DaeVar index, value)
   frontend::SourceRange range;

@@ -113,6 +113,69 @@ private:
               s.lhs->var >= 0)
             discrete_.insert(s.lhs->var);
     }
+    mark_event_equations();
+  }
+
+  /// Modelica 3 §8.6: a Boolean, Integer or `discrete` variable changes only
+  /// at events, where the event iteration solves its equation together with
+  /// the continuous ones (pre() being the value of the previous iteration).
+  /// For an equation `d = expr` outside when-clauses whose d is such a
+  /// variable and that reads pre() (or whose d some pre() reads), solving it
+  /// as a continuous unknown would put pre(d) = d into a Newton block (the
+  /// MSL's friction: `startForward = pre(mode) == Stuck and (sa > tau0_max or
+  /// pre(startForward) and sa > tau0) ...`). It becomes an every-event
+  /// assignment (WhenClause::every_event) and d a discrete variable.
+  void mark_event_equations() {
+    std::unordered_set<int> pre_read;
+    std::vector<const ast::Expr*> roots;
+    for (const ast::Equation& eq : f_.equations) {
+      if (eq.lhs) roots.push_back(eq.lhs.get());
+      if (eq.rhs) roots.push_back(eq.rhs.get());
+      for (const auto& br : eq.branches) {
+        if (br.condition) roots.push_back(br.condition.get());
+        for (const ast::Equation& s : br.body) {
+          if (s.lhs) roots.push_back(s.lhs.get());
+          if (s.rhs) roots.push_back(s.rhs.get());
+        }
+      }
+    }
+    for (const ast::Expr* r : roots) pre_reads(*r, pre_read);
+    for (const ast::Equation& eq : f_.equations) {
+      if (eq.kind != ast::EquationKind::Simple || eq.lhs->kind != ast::ExprKind::Ref || eq.lhs->var < 0) continue;
+      const int v = eq.lhs->var;
+      const flat::Variable& var = fv(v);
+      const bool discrete_type = var.type == flat::BaseType::Boolean || var.type == flat::BaseType::Integer ||
+                                 var.variability == ast::Variability::Discrete;
+      if (!discrete_type || var.top_level_input || discrete_.contains(v) ||
+          (var.variability != ast::Variability::Continuous && var.variability != ast::Variability::Discrete))
+        continue;
+      std::unordered_set<int> own;
+      if (!pre_read.contains(v) && !pre_reads(*eq.rhs, own)) continue;
+      discrete_.insert(v);
+      event_equations_.insert(&eq);
+    }
+  }
+
+  /// Adds the flat variables that pre() calls in `e` read to `out`; true if
+  /// `e` calls pre() at all. Iterative (expressions may be deep).
+  static bool pre_reads(const ast::Expr& e, std::unordered_set<int>& out) {
+    bool any = false;
+    std::vector<const ast::Expr*> stack{&e};
+    while (!stack.empty()) {
+      const ast::Expr* x = stack.back();
+      stack.pop_back();
+      if (x->kind == ast::ExprKind::Call && x->ref.str() == "pre") {
+        any = true;
+        if (!x->args.empty() && x->args[0] && x->args[0]->kind == ast::ExprKind::Ref && x->args[0]->var >= 0)
+          out.insert(x->args[0]->var);
+      }
+      for (const auto& a : x->args)
+        if (a) stack.push_back(a.get());
+      for (const auto& row : x->rows)
+        for (const auto& a : row)
+          if (a) stack.push_back(a.get());
+    }
+    return any;
   }
 
   void declare(int i) {
@@ -255,6 +318,7 @@ private:
   Dae dae_;
   std::vector<Slot> slots_;
   std::unordered_set<int> discrete_;
+  std::unordered_set<const ast::Equation*> event_equations_;  ///< see mark_event_equations()
   std::unordered_set<int> in_progress_;
   std::optional<ExprConverter> conv_;
   LeafValues param_values_;  ///< default value of every parameter symbol
@@ -265,6 +329,15 @@ private:
 void Builder::equation(const ast::Equation& eq) {
   switch (eq.kind) {
   case ast::EquationKind::Simple: {
+    if (event_equations_.contains(&eq)) {
+      DaeWhen w;
+      w.condition = dae_.arena.constant(1.0);
+      w.every_event = true;
+      w.range = eq.range;
+      w.assignments.push_back({ref(*eq.lhs), conv_->convert(*eq.rhs)});
+      dae_.whens.push_back(std::move(w));
+      return;
+    }
     DaeEq e;
     e.residual = dae_.arena.sub(conv_->convert(*eq.lhs), conv_->convert(*eq.rhs));
     e.range = eq.range;

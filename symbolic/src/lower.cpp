@@ -249,7 +249,7 @@ private:
     out.outputs.insert(out.outputs.end(), dae_.outputs.begin(), dae_.outputs.end());
     out.eliminated.insert(out.eliminated.end(), dae_.eliminated.begin(), dae_.eliminated.end());
     for (const DaeWhen& w : dae_.whens) {
-      WhenClause c{w.condition, w.assignments, {}};
+      WhenClause c{w.condition, w.every_event, w.assignments, {}};
       for (const auto& [v, e] : w.reinits)
         if (state_of_.contains(at(v))) c.reinits.push_back({state_of_.at(at(v)), e});
       out.whens.push_back(std::move(c));
@@ -269,7 +269,11 @@ private:
       if (const auto* as = std::get_if<Assignment>(&s)) roots.push_back(as->value);
       else for (Expr r : std::get<EquationBlock>(s).residuals) roots.push_back(r);
     }
-    for (const auto& w : out.whens) roots.push_back(w.condition);
+    for (const auto& w : out.whens) {
+      roots.push_back(w.condition);
+      if (w.every_event)  // a change of its relations between events is an event
+        for (const auto& s : w.assignments) roots.push_back(s.value);
+    }
     collect_zero_crossings(a(), roots, out.zero_crossings);
   }
 

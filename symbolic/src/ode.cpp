@@ -101,6 +101,11 @@ void print_declarations(const OdeModel& m, std::string& out) {
 }
 
 void print_when(const ExprArena& a, const OdeModel& m, const WhenClause& w, std::string& out) {
+  if (w.every_event) {  // printed back as the equation it came from
+    for (const auto& s : w.assignments)
+      out += "  " + to_modelica(a, s.target) + " = " + to_modelica(a, s.value) + ";\n";
+    return;
+  }
   out += "  when " + to_modelica(a, w.condition) + " then\n";
   for (const auto& s : w.assignments)
     out += "    " + to_modelica(a, s.target) + " = " + to_modelica(a, s.value) + ";\n";

@@ -23,11 +23,30 @@ TEST_CASE("every Xcos corpus diagram matches Scilab", "[xcos][corpus]") {
   // Known failures, each explained in docs/xcos-dialect.md ("Why the others
   // fail"). A listed diagram that starts passing fails this test too, so the
   // list only shrinks.
-  const std::set<std::string> known_failures{"Clutch", "ControlledTemperature"};
+  const std::set<std::string> known_failures{"ControlledTemperature"};
   for (const auto& name : diagrams(*corpus)) {
     const DiagramResult r = check_diagram(*corpus, name, libs);
     INFO(table_row(r));
     if (known_failures.contains(name)) WARN("known failure: " << table_row(r));
     CHECK(r.passed() == !known_failures.contains(name));
   }
+}
+
+// ControlledTemperature's known failure is the recording's, not the model's:
+// its heater is switched by a non-Modelica relay whose on-pulses (~10 ms)
+// fall between Scilab's samples (20 ms), so the recorded input column cannot
+// place them. Closed instead through Modelica copies of the diagram's relay,
+// set point and sum (tests/e2e/data/xcos_ControlledTemperature_loop.mo), the
+// model matches Scilab's run to 1e-3 of range, the relay's samples included.
+TEST_CASE("ControlledTemperature closed through its relay matches Scilab", "[xcos][corpus]") {
+  const auto corpus = corpus_dir(MO_SOURCE_DIR);
+  if (!corpus) {
+    WARN("SKIPPED: no xcos-corpus beside the checkout (set MO_SHARED_DIR)");
+    return;
+  }
+  ::setenv("XDG_CACHE_HOME", MO_BINARY_DIR "/morun-test-cache", 1);
+  const StepResult r = check_closed_loop(*corpus, "ControlledTemperature",
+                                         MO_SOURCE_DIR "/tests/e2e/data/xcos_ControlledTemperature_loop.mo", "plant");
+  INFO(r.detail);
+  CHECK(r.passed);
 }

@@ -113,6 +113,7 @@ struct HessianCode {
 /// A when-clause as slots.
 struct WhenCode {
   int section = -1;  ///< computes the values of assignments and reinits
+  bool every_event = false;  ///< fires at every handler call (WhenClause::every_event)
   std::vector<std::pair<Slot, Slot>> assignments;  ///< (discrete slot, value slot)
   std::vector<std::pair<std::size_t, Slot>> reinits;  ///< (state index, value slot)
 };

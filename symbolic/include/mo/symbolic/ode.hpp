@@ -130,6 +130,11 @@ struct Reinit {
 /// Fires when `condition` becomes true (it was false before the event).
 struct WhenClause {
   Expr condition;                       ///< Boolean expression (0/1)
+  /// Fires at every handler call instead (each event iteration): the
+  /// equation `d = expr` of a discrete variable that reads pre(), outside
+  /// when-clauses (the MSL's friction `mode`, `startForward`, `locked`). The
+  /// relations of its values are event indicators.
+  bool every_event = false;
   std::vector<Assignment> assignments;  ///< targets are Discrete symbols
   std::vector<Reinit> reinits;
 };

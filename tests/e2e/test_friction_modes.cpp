@@ -1,0 +1,120 @@
+// Friction written as the MSL's PartialFriction writes it: the mode machine
+// (startForward, startBackward, locked, mode) is made of equations outside
+// when-clauses that read pre(). Such a Boolean/Integer equation is solved by
+// event iteration (an every-event assignment), not as a continuous unknown
+// of a Newton block; checked against the exact piecewise solution of an
+// inertia driven by A sin(omega t) that sticks, slides and stops.
+#include "e2e/support.hpp"
+#include "mo/runtime/simulate.hpp"
+
+using namespace mo;
+using namespace mo::e2e;
+
+namespace {
+
+/// The exact motion: phases that start at rest (w = 0) at time t with angle
+/// phi, stuck (dir 0) or sliding forward (+1) or backward (-1).
+struct FrictionExact {
+  double J, A, omega, tau0, tau0_max;
+  struct Phase {
+    double t, phi;
+    int dir;
+  };
+  std::vector<Phase> phases;
+
+  [[nodiscard]] double w(const Phase& ph, double t) const {
+    if (ph.dir == 0) return 0.0;
+    return ((A / omega) * (std::cos(omega * ph.t) - std::cos(omega * t)) - ph.dir * tau0 * (t - ph.t)) / J;
+  }
+  [[nodiscard]] double phi(const Phase& ph, double t) const {
+    if (ph.dir == 0) return ph.phi;
+    const double s = t - ph.t;
+    return ph.phi + ((A / omega) * std::cos(omega * ph.t) * s -
+                     (A / (omega * omega)) * (std::sin(omega * t) - std::sin(omega * ph.t)) -
+                     ph.dir * tau0 * s * s / 2) / J;
+  }
+  /// First t in (from, to] where f changes sign (scan, then bisection), or to.
+  template <class F>
+  static double first_root(F f, double from, double to) {
+    const double h = 1e-3;
+    double a = from, fa = f(a);
+    for (double b = from + h; b <= to; b += h) {
+      const double fb = f(b);
+      if ((fa < 0) != (fb < 0)) {
+        for (int k = 0; k < 200 && b - a > 1e-14; ++k) {
+          const double m = 0.5 * (a + b), fm = f(m);
+          ((fa < 0) != (fm < 0) ? b : a) = m;
+          if (a == m) fa = fm;
+        }
+        return b;
+      }
+      a = b;
+      fa = fb;
+    }
+    return to;
+  }
+  /// The direction a body at rest at t takes: breaks loose if |A sin| > tau0_max.
+  [[nodiscard]] int direction_at(double t) const {
+    const double drive = A * std::sin(omega * t);
+    return std::fabs(drive) > tau0_max ? (drive > 0 ? 1 : -1) : 0;
+  }
+  void build(double t_end) {
+    phases = {{0.0, 0.0, 0}};
+    while (phases.back().t < t_end && phases.size() < 100) {
+      const Phase ph = phases.back();
+      if (ph.dir == 0) {
+        const double t = first_root([&](double s) { return std::fabs(A * std::sin(omega * s)) - tau0_max; },
+                                    ph.t + 1e-9, t_end + 1);
+        phases.push_back({t, ph.phi, direction_at(t + 1e-12)});
+      } else {
+        const double t = first_root([&](double s) { return ph.dir * w(ph, s); }, ph.t + 1e-6, t_end + 1);
+        phases.push_back({t, phi(ph, t), direction_at(t)});
+      }
+    }
+  }
+  [[nodiscard]] const Phase& at(double t) const {
+    std::size_t j = 0;
+    while (j + 1 < phases.size() && phases[j + 1].t <= t) ++j;
+    return phases[j];
+  }
+};
+
+}  // namespace
+
+TEST_CASE("MSL-style friction mode machine (pre() outside when): stick, slide, stop, exact", "[events][friction]") {
+  auto model = compiled_model("e2e_friction_state_machine", {{kData + "FrictionStateMachine.mo", "", {}, true}, {}});
+  const auto& info = model->info();
+  const auto p = info.default_parameters();
+  FrictionExact exact{p[parameter(info, "J")], p[parameter(info, "A")], p[parameter(info, "omega")],
+                      p[parameter(info, "tau0")], p[parameter(info, "peak")] * p[parameter(info, "tau0")], {}};
+  const double t_end = 10;
+  exact.build(t_end);
+  std::size_t sliding = 0, stuck = 0;
+  for (const auto& ph : exact.phases) (ph.dir == 0 ? stuck : sliding) += ph.t < t_end;
+  REQUIRE(sliding >= 3);  // the drive breaks it loose both ways and it sticks again
+  REQUIRE(stuck >= 3);
+  const auto grid = runtime::OutputGrid::uniform(0, t_end, 1000);
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto phi = column(r.trajectory, "phi"), w = column(r.trajectory, "w");
+  double worst = 0;
+  for (std::size_t i = 0; i < grid.times.size(); ++i) {
+    const double t = grid.times[i];
+    const auto& ph = exact.at(t);
+    INFO("t = " << t << ", exact phase from " << ph.t << " dir " << ph.dir);
+    CHECK(std::fabs(phi[i] - exact.phi(ph, t)) < 1e-6);
+    CHECK(std::fabs(w[i] - exact.w(ph, t)) < 1e-6);
+    worst = std::max({worst, std::fabs(phi[i] - exact.phi(ph, t)), std::fabs(w[i] - exact.w(ph, t))});
+  }
+  std::string events;
+  for (double e : r.event_times) events += std::to_string(e) + " ";
+  INFO("events: " << events);
+  for (std::size_t j = 1; j < exact.phases.size(); ++j)
+    if (exact.phases[j].t < t_end) {
+      INFO("phase change at " << exact.phases[j].t);
+      CHECK(std::any_of(r.event_times.begin(), r.event_times.end(),
+                        [&](double e) { return std::fabs(e - exact.phases[j].t) < 1e-6; }));
+    }
+  WARN("friction mode machine: " << exact.phases.size() << " phases, max error " << worst);
+}
