@@ -267,9 +267,13 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
 
 std::string describe_modes(const symbolic::OdeModel& ode, const ModeSequence& seq) {
   std::string out;
-  for (const auto& sw : seq.switches)
+  for (const auto& sw : seq.switches) {
     out += fmt::format("{}{} {} at t = {:.6g}", out.empty() ? "" : ", ", symbolic::to_modelica(ode.arena, ode.zero_crossings[sw.indicator]),
                        sw.direction < 0 ? "falls through 0" : "rises through 0", sw.time);
+    for (const auto& [i, direction] : sw.also)
+      out += fmt::format(" with {} {}", symbolic::to_modelica(ode.arena, ode.zero_crossings[i]),
+                         direction < 0 ? "falling" : "rising");
+  }
   return out.empty() ? "no switch" : out;
 }
 
@@ -278,10 +282,15 @@ nlohmann::json sequence_json(const symbolic::OdeModel& ode, const ModeSequence& 
   for (const auto& sw : seq.switches) {
     nlohmann::json whens = nlohmann::json::array();
     for (std::size_t w : sw.whens) whens.push_back("when " + symbolic::to_modelica(ode.arena, ode.whens[w].condition));
+    nlohmann::json also = nlohmann::json::array();
+    for (const auto& [i, direction] : sw.also)
+      also.push_back({{"indicator", symbolic::to_modelica(ode.arena, ode.zero_crossings[i])},
+                      {"direction", direction < 0 ? "down" : "up"}});
     a.push_back({{"time", sw.time},
                  {"indicator", symbolic::to_modelica(ode.arena, ode.zero_crossings[sw.indicator])},
                  {"direction", sw.direction < 0 ? "down" : "up"},
-                 {"when_clauses", whens}});
+                 {"when_clauses", whens},
+                 {"crossing_with_it", also}});
   }
   return a;
 }

@@ -72,6 +72,17 @@ TEST_CASE("a switch inside a torn nonlinear block: the jump goes through Newton"
   check("e2e_ev_limit", "DiodeLimitLoop", {"R", "Maxexp", "n", "G"}, runtime::OutputGrid::uniform(0, 2, 40), 5e-4);
 }
 
+TEST_CASE("two balls bounce at one instant: two indicators cross together", "[events][sensitivities]") {
+  // g and h0 move both bounces together (one dτ/dp for both indicators);
+  // e1 and e2 act only in their own reinit, so d(ball 2)/d(e1) is exactly 0:
+  // the floor 1e-4 keeps the quotient's noise there (5e-11) out of the ratio.
+  const auto run = run_through_events("e2e_ev_two_balls", {kData + "TwoBalls.mop", "TwoBallsModel", {}, true},
+                                      {"g", "h0", "e1", "e2"}, runtime::OutputGrid::uniform(0, 1, 20), 1e-10, 1e-4);
+  CHECK(run.event_times.size() == 2);  // both balls at 0.45, ball 2 alone at 0.99
+  CHECK(worst_relative(run, run.generated, 1e-3, 1e-4) < 1e-5);
+  CHECK(worst_relative(run, run.cvodes, 1e-3, 1e-4) < 1e-5);
+}
+
 TEST_CASE("a design on a model with events it cannot take (Zeno) is refused at the when-clause, never 'success'",
           "[events][studies]") {
   const fs::path dir = scratch("study_events");
