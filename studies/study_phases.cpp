@@ -191,6 +191,18 @@ double state_scale(const runtime::OptimizationResult& R, const runtime::ModelInf
   return scale;
 }
 
+/// The collocation's times for the re-simulation: a time within rounding of
+/// the one before it (phases meet at t = τ_k + 1·(τ_{k+1} − τ_k) and
+/// τ_{k+1} + 0·…, computed apart) is made equal to it, which the simulator
+/// takes as a repeated output; two distinct times 1e-16 apart it refuses.
+std::vector<double> output_times(const runtime::OptimizationResult& R, const runtime::OptimalControlProblem& P) {
+  std::vector<double> t = R.trajectories.times();
+  const double close = 1e-12 * (P.tf - P.t0);
+  for (std::size_t j = 1; j < t.size(); ++j)
+    if (std::abs(t[j] - t[j - 1]) <= close) t[j] = t[j - 1];
+  return t;
+}
+
 EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& ode, const RelationMap& rel,
                               const ModeSequence& seq, const runtime::OptimalControlProblem& Pphys,
                               runtime::OptimizationResult& R, const std::vector<double>& switches, double min_gap) {
@@ -220,7 +232,7 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
   if (info.num_base_states() < info.states.size())  // sensitivity states: with their jumps at the events
     so.sensitivities.method = runtime::SensitivityMethod::model_states;
   auto sim_model = model.clone();
-  const auto sim = runtime::simulate(*sim_model, inputs, R.parameters, runtime::OutputGrid::at(R.trajectories.times()), so);
+  const auto sim = runtime::simulate(*sim_model, inputs, R.parameters, runtime::OutputGrid::at(output_times(R, Pphys)), so);
   R.check.performed = sim.ok();
   R.check.message = sim.message;
   R.check.resimulated = runtime::ResultTable(R.trajectories.names());
@@ -255,9 +267,13 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
 
 std::string describe_modes(const symbolic::OdeModel& ode, const ModeSequence& seq) {
   std::string out;
-  for (const auto& sw : seq.switches)
+  for (const auto& sw : seq.switches) {
     out += fmt::format("{}{} {} at t = {:.6g}", out.empty() ? "" : ", ", symbolic::to_modelica(ode.arena, ode.zero_crossings[sw.indicator]),
                        sw.direction < 0 ? "falls through 0" : "rises through 0", sw.time);
+    for (const auto& [i, direction] : sw.also)
+      out += fmt::format(" with {} {}", symbolic::to_modelica(ode.arena, ode.zero_crossings[i]),
+                         direction < 0 ? "falling" : "rising");
+  }
   return out.empty() ? "no switch" : out;
 }
 
@@ -266,10 +282,15 @@ nlohmann::json sequence_json(const symbolic::OdeModel& ode, const ModeSequence& 
   for (const auto& sw : seq.switches) {
     nlohmann::json whens = nlohmann::json::array();
     for (std::size_t w : sw.whens) whens.push_back("when " + symbolic::to_modelica(ode.arena, ode.whens[w].condition));
+    nlohmann::json also = nlohmann::json::array();
+    for (const auto& [i, direction] : sw.also)
+      also.push_back({{"indicator", symbolic::to_modelica(ode.arena, ode.zero_crossings[i])},
+                      {"direction", direction < 0 ? "down" : "up"}});
     a.push_back({{"time", sw.time},
                  {"indicator", symbolic::to_modelica(ode.arena, ode.zero_crossings[sw.indicator])},
                  {"direction", sw.direction < 0 ? "down" : "up"},
-                 {"when_clauses", whens}});
+                 {"when_clauses", whens},
+                 {"crossing_with_it", also}});
   }
   return a;
 }

@@ -46,6 +46,11 @@ struct PhaseSwitch {
   double time = 0.0;                ///< the event time in the simulation
   std::size_t indicator = 0;        ///< the indicator that crossed
   int direction = 0;                ///< −1 downwards, +1 upwards
+  /// Other indicators that crossed at the same instant, with their
+  /// directions: their relations flip with the mode, their clauses fire here,
+  /// but only `indicator` = 0 is imposed at the phase boundary (the others
+  /// are taken to cross with it; the re-simulation checks that they do).
+  std::vector<std::pair<std::size_t, int>> also;
   std::vector<std::size_t> whens;   ///< when-clauses that fired (OdeModel::whens indices)
   std::vector<double> states_after; ///< x⁺ in the simulation
 };
@@ -88,9 +93,10 @@ struct PhaseRefusal {
 std::optional<PhaseRefusal> check_event_constructs(const symbolic::OdeModel& ode, const RelationMap& rel);
 
 /// Simulates `model` from t0 to tf with `inputs` and `p`, recording every
-/// event, and returns its mode sequence, or a refusal (several indicators at
-/// one instant, a time event, an event iteration that changes more, more
-/// than `max_switches` switches, two switches closer than `min_gap`).
+/// event, and returns its mode sequence, or a refusal (a time event, an
+/// event iteration that changes more, more than `max_switches` switches, two
+/// switches closer than `min_gap`). Several indicators crossing at one
+/// instant make one switch (the first of them its `indicator`, the others `also`).
 /// `simulation_message` is set if the simulation itself failed.
 struct ModeRecording {
   std::optional<ModeSequence> sequence;

@@ -206,12 +206,6 @@ ModeRecording record_modes(const runtime::Model& model, const symbolic::OdeModel
                                  std::nullopt, std::nullopt};
       return out;
     }
-    if (crossed.size() > 1) {
-      out.refusal = refusal(ode, rel, crossed[1],
-                            fmt::format("{} event indicators cross at once at t = {:.9g}; the multi-phase "
-                                        "collocation takes one switch per instant", crossed.size(), first.t));
-      return out;
-    }
     for (std::size_t k = in.first + 1; k < in.last; ++k)
       if (rec.calls[k].x_before != rec.calls[k].x_after || rec.calls[k].d_before != rec.calls[k].d_after) {
         out.refusal = refusal(ode, rel, crossed[0],
@@ -224,7 +218,12 @@ ModeRecording record_modes(const runtime::Model& model, const symbolic::OdeModel
     sw.time = first.t;
     sw.indicator = crossed[0];
     sw.direction = first.crossings[crossed[0]];
-    sw.whens = fired_whens(ode, rel, sw.indicator, sw.direction);
+    for (std::size_t i : crossed) {
+      if (i != sw.indicator) sw.also.push_back({i, first.crossings[i]});
+      for (std::size_t w : fired_whens(ode, rel, i, first.crossings[i])) sw.whens.push_back(w);
+    }
+    std::sort(sw.whens.begin(), sw.whens.end());
+    sw.whens.erase(std::unique(sw.whens.begin(), sw.whens.end()), sw.whens.end());
     sw.states_after = last.x_after;
     seq.modes.back().end = sw.time;
     seq.modes.push_back({{}, last.d_after, sw.time, tf});
@@ -246,7 +245,8 @@ bool same_modes(const ModeSequence& a, const ModeSequence& b, const RelationMap&
   if (a.switches.size() != b.switches.size() || a.modes.size() != b.modes.size()) return false;
   for (std::size_t k = 0; k < a.switches.size(); ++k) {
     const auto &x = a.switches[k], &y = b.switches[k];
-    if (x.indicator != y.indicator || x.direction != y.direction || x.whens != y.whens) return false;
+    if (x.indicator != y.indicator || x.direction != y.direction || x.also != y.also || x.whens != y.whens)
+      return false;
   }
   for (std::size_t k = 0; k < a.modes.size(); ++k) {
     const auto &x = a.modes[k], &y = b.modes[k];

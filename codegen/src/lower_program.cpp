@@ -315,7 +315,11 @@ private:
         b.assign(slots_->of(as->target), as->value, s);
         continue;
       }
-      b.block(std::get<symbolic::EquationBlock>(step), what + " block " + std::to_string(++number), s);
+      const auto& blk = std::get<symbolic::EquationBlock>(step);
+      b.block(blk, what + " block " + std::to_string(++number), s);
+      // Newton's scales and bounds, as in the model's own steps (without them
+      // a torn block at an event read past empty arrays and did not move).
+      if (!blk.linear) bounds(blk, p_.blocks.back());
     }
   }
 

@@ -105,6 +105,9 @@ private:
     if (b.linear)
       r += fmt::format("const G::LinearBlock {0} = {{{1}, {0}_unknowns, {0}_values, {0}_entries, {2}, {3}}};\n\n",
                        n, b.unknowns.size(), b.entries.size(), cpp_string_literal(b.description));
+    else if (b.nominal.size() != b.unknowns.size() || b.lower.size() != b.unknowns.size() ||
+             b.upper.size() != b.unknowns.size())
+      throw std::logic_error("code generation: " + n + " has no nominal values or bounds for its unknowns");
     else
       r += double_array(n + "_nominal", b.nominal) + double_array(n + "_lower", b.lower) +
            double_array(n + "_upper", b.upper) +

@@ -15,6 +15,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <optional>
 
 namespace mo::runtime {
@@ -600,8 +601,14 @@ SimulationResult Simulation::run() {
   if (!set_up()) return finish();
 
   std::size_t next_out = 0;
+  // A time within rounding of t counts as reached: CVODES refuses to step to
+  // it (CV_TOO_CLOSE), and grids built on phases or elements (τ + s·len)
+  // give such neighbours (1.35 and 1.3499999999999999).
+  const auto reached = [](double target, double t) {
+    return target <= t + 8 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t));
+  };
   auto record_through = [&](double t) {
-    while (next_out < times.size() && times[next_out] <= t) record(times[next_out++]);
+    while (next_out < times.size() && reached(times[next_out], t)) record(times[next_out++]);
   };
   record_through(t0);
 
@@ -611,7 +618,7 @@ SimulationResult Simulation::run() {
   void* cv = cvode_.mem;
   double t = t0;
   while (next_out < times.size()) {
-    while (next_bp < breakpoints.size() && breakpoints[next_bp] <= t) ++next_bp;
+    while (next_bp < breakpoints.size() && reached(breakpoints[next_bp], t)) ++next_bp;
     double t_break = next_bp < breakpoints.size() ? breakpoints[next_bp] : t_end;
     double t_event = model_.next_time_event(t);
     double t_stop = std::min({t_end, t_break, t_event});

@@ -120,6 +120,55 @@ TEST_CASE("friction: the design's Fisher matrix equals the one of finite-differe
   CHECK(fd(0, 0) > 1.0);
 }
 
+TEST_CASE("a kick at a parameter time: the design's Fisher matrix for T equals finite differences",
+          "[events][studies][design]") {
+  // The sensitivity to the kick time T lives only in the jump at the kick
+  // (dτ/dT = 1 from the indicator time − T); the phase boundary is tied to T
+  // by the switch constraint τ − T = 0.
+  const fs::path dir = scratch("event_design_kick");
+  const Run r = morun(quoted(kData + "KickDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  CHECK(s["events"]["mode_sequence_held"] == true);
+  CHECK(double(s["events"]["switch_times"][0]) == Approx(0.7).margin(1e-9));
+  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
+  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
+  const Replay replay{"KickDesign.mop", "KickForced", "F=pwc:" + (dir / "out" / "designed_input.csv").string(),
+                      2.0, 10, "x", 0.01};
+  const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"T", 0.7}, {"k", 4.0}}, dir);
+  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
+  const double scale = fd.cwiseAbs().maxCoeff();
+  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  CHECK(fd(0, 0) > 100.0);  // T is well determined, through the jump only
+}
+
+TEST_CASE("two balls bouncing at one instant: the design's Fisher matrix equals finite differences",
+          "[events][studies][design]") {
+  // Two indicators cross together at the joint bounce: one switch, both
+  // clauses, the sensitivity jump through both reinits with one dτ/dp.
+  const fs::path dir = scratch("event_design_two_balls");
+  const Run r = morun(quoted(kData + "TwoBallsDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  CHECK(s["events"]["mode_sequence_held"] == true);
+  REQUIRE(s["events"]["mode_sequence"].size() == 1);
+  CHECK(s["events"]["mode_sequence"][0]["crossing_with_it"].size() == 1);
+  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
+  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
+  const Replay replay{"TwoBallsDesign.mop", "TwoBallsPushed", "u=pwc:" + (dir / "out" / "designed_input.csv").string(),
+                      0.8, 8, "h2", 0.01};
+  const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"g", 9.81}, {"e2", 0.6}}, dir);
+  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
+  const double scale = fd.cwiseAbs().maxCoeff();
+  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+}
+
 TEST_CASE("ball: Monte Carlo through the bounces, every run's interval covers the truth", "[events][studies]") {
   const fs::path dir = scratch("event_monte_carlo_ball");
   const Run r = morun(quoted(kData + "BallMonteCarlo.mop") + " -j 1 -o " + quoted((dir / "out").string()), dir);

@@ -1,8 +1,8 @@
 // Sensitivities that stay true through events (issue 15): a bouncing ball
 // (reinit), a time event whose time is a parameter with several clauses and
 // an event iteration at one instant, a diode-like if-expression (the
-// right-hand side jumps, no reinit), a discrete mode read by an if-expression
-// and stick-slip friction. Each: generated sensitivity states and CVODES'
+// right-hand side jumps, no reinit), a discrete mode read by an if-expression,
+// stick-slip friction and a switch inside a torn nonlinear block. Each: generated sensitivity states and CVODES'
 // module (rtol 1e-10) vs central differences of simulations (rtol 1e-12,
 // step 1e-4 relative), at output times more than 1e-3 from an event.
 #include "e2e/cli.hpp"
@@ -60,6 +60,27 @@ TEST_CASE("a discrete mode set by a when-clause and read by an if-expression", "
 TEST_CASE("stick-slip friction: mode, reinit and a force step at a parameter time",
           "[events][sensitivities]") {
   check("e2e_ev_stickslip", "StickSlip", {"k", "Fc", "tF", "F1"}, runtime::OutputGrid::uniform(0, 10, 100), 1e-4);
+}
+
+TEST_CASE("a switch inside a torn nonlinear block: the jump goes through Newton", "[events][sensitivities]") {
+  // The relation v/(n*vt) > Maxexp reads unknowns of the block; f⁻ and f⁺ are
+  // solved by the event right-hand side's own Newton block (which had no
+  // scales and bounds, read past empty arrays and did not converge: the jump
+  // was not finite), the indicator's tangent by the block's implicit-function
+  // derivative. Tolerance: the difference quotient for G (step 5e-6) has a
+  // noise of about 1e-4 of its largest value.
+  check("e2e_ev_limit", "DiodeLimitLoop", {"R", "Maxexp", "n", "G"}, runtime::OutputGrid::uniform(0, 2, 40), 5e-4);
+}
+
+TEST_CASE("two balls bounce at one instant: two indicators cross together", "[events][sensitivities]") {
+  // g and h0 move both bounces together (one dτ/dp for both indicators);
+  // e1 and e2 act only in their own reinit, so d(ball 2)/d(e1) is exactly 0:
+  // the floor 1e-4 keeps the quotient's noise there (5e-11) out of the ratio.
+  const auto run = run_through_events("e2e_ev_two_balls", {kData + "TwoBalls.mop", "TwoBallsModel", {}, true},
+                                      {"g", "h0", "e1", "e2"}, runtime::OutputGrid::uniform(0, 1, 20), 1e-10, 1e-4);
+  CHECK(run.event_times.size() == 2);  // both balls at 0.45, ball 2 alone at 0.99
+  CHECK(worst_relative(run, run.generated, 1e-3, 1e-4) < 1e-5);
+  CHECK(worst_relative(run, run.cvodes, 1e-3, 1e-4) < 1e-5);
 }
 
 TEST_CASE("a design on a model with events it cannot take (Zeno) is refused at the when-clause, never 'success'",

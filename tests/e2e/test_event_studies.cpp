@@ -79,6 +79,50 @@ TEST_CASE("ball: the gravity that reaches h(0.8) = 0.5 bounces, as the analytic 
   CHECK(resim.back()[1] == Approx(0.5).margin(1e-6));
 }
 
+TEST_CASE("a time event at a free parameter time: the switching time is the parameter", "[events][studies]") {
+  // when time >= T: the switch constraint reads tau - T = 0 (linear, exact),
+  // so the phase boundary moves with the free T; analytic optimum T = 0.7601269.
+  const fs::path dir = scratch("event_study_kick_time");
+  const Run r = run_study("KickTime.mop", dir / "out", dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  CHECK(s["events"]["phases"] == 2);
+  const double T = s["parameters"]["T"];
+  const double analytic = (4.0 - (M_PI - std::asin(2.0 * (-0.5 - std::cos(4.0)) / 0.5))) / 2.0;
+  CHECK(T == Approx(analytic).margin(1e-6));
+  CHECK(double(s["events"]["switch_times"][0]) == Approx(T).margin(1e-9));
+  CHECK(double(s["events"]["max_relative_state_difference"]) < 1e-5);
+  CHECK(double(s["events"]["max_switch_time_difference"]) < 1e-7);
+}
+
+TEST_CASE("two indicators crossing at one instant make one switch firing both clauses", "[events][studies]") {
+  // Two balls dropped together: h1 and h2 cross at once. One phase boundary
+  // imposes the first indicator = 0, flips both and applies both reinits; the
+  // re-simulation sees both cross together again at the optimum.
+  const fs::path dir = scratch("event_study_two_balls");
+  const Run r = run_study("TwoBalls.mop", dir / "out", dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  CHECK(s["events"]["phases"] == 2);
+  REQUIRE(s["events"]["mode_sequence"].size() == 1);
+  CHECK(s["events"]["mode_sequence"][0]["when_clauses"].size() == 2);
+  CHECK(s["events"]["mode_sequence"][0]["crossing_with_it"].size() == 1);
+  CHECK(s["events"]["resimulated_mode_sequence"][0]["crossing_with_it"].size() == 1);
+  const double g = s["parameters"]["g"];
+  CHECK(g == Approx(6.3531).margin(1e-3));
+  CHECK(ball_height(g, 0.8, 0.8) == Approx(0.5).margin(1e-6));
+  CHECK(double(s["events"]["switch_times"][0]) == Approx(std::sqrt(2.0 / g)).margin(1e-7));
+  CHECK(double(s["events"]["max_relative_state_difference"]) < 1e-6);
+  // Ball 2 (e = 0.6) at 0.8, from the trajectories: columns time, h1, v1, h2, v2.
+  const auto traj = rows(dir / "out" / "trajectories.csv");
+  REQUIRE(!traj.empty());
+  CHECK(traj.back()[3] == Approx(ball_height(g, 0.6, 0.8)).margin(1e-6));
+}
+
 TEST_CASE("ball pushed by an input: each phase has its own controls, the re-simulation bounces too",
           "[events][studies]") {
   const fs::path dir = scratch("event_study_input");

@@ -90,9 +90,7 @@ std::optional<runtime::Inputs> recorded_inputs(const runtime::ModelInfo& info, c
 
 /// Models whose sensitivities through events are known to fail, with why
 /// (docs/events.md, "Limits"); the test fails if one of them passes.
-const std::map<std::string, std::string> kKnownFailures{
-    {"HeatingRectifier",
-     "the diode's exponential switches inside a torn nonlinear block: the jump at that event is not finite"}};
+const std::map<std::string, std::string> kKnownFailures{};
 
 double final_time(const fs::path& json_file) {
   std::ifstream in(json_file);
