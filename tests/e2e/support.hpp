@@ -154,4 +154,32 @@ inline double max_abs_difference(const std::vector<double>& a, const std::vector
   return m;
 }
 
+/// d(name)/d(p[k]) along `grid` by central differences of two simulations of
+/// `model` at steps h and 2h, Richardson-extrapolated (error O(h^4)), at
+/// rtol = atol = 1e-12; REQUIREs that every run succeeds.
+inline std::vector<double> richardson_difference(runtime::Model& model, std::span<const double> p,
+                                                 std::size_t k, double h, const runtime::OutputGrid& grid,
+                                                 const std::string& name) {
+  auto options = tight();
+  options.relative_tolerance = 1e-12;
+  options.absolute_tolerance = 1e-12;
+  auto central = [&](double step) {
+    std::vector<double> q(p.begin(), p.end());
+    q[k] = p[k] + step;
+    const auto plus = runtime::simulate(model, runtime::Inputs{}, q, grid, options);
+    q[k] = p[k] - step;
+    const auto minus = runtime::simulate(model, runtime::Inputs{}, q, grid, options);
+    REQUIRE(plus.ok());
+    REQUIRE(minus.ok());
+    const auto a = column(plus.trajectory, name), b = column(minus.trajectory, name);
+    std::vector<double> d(a.size());
+    for (std::size_t r = 0; r < a.size(); ++r) d[r] = (a[r] - b[r]) / (2 * step);
+    return d;
+  };
+  const auto d1 = central(h), d2 = central(2 * h);
+  std::vector<double> d(d1.size());
+  for (std::size_t r = 0; r < d.size(); ++r) d[r] = (4 * d1[r] - d2[r]) / 3;
+  return d;
+}
+
 }  // namespace mo::e2e
