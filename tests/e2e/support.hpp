@@ -182,4 +182,20 @@ inline std::vector<double> richardson_difference(runtime::Model& model, std::spa
   return d;
 }
 
+/// Largest |a_r - b_r| and largest |b_r| over the rows after the first (the
+/// first row, at t0, is where both start equal by construction).
+struct Deviation {
+  double worst = 0;
+  double scale = 0;
+};
+inline Deviation deviation_after_t0(const std::vector<double>& a, const std::vector<double>& b) {
+  REQUIRE(a.size() == b.size());
+  Deviation d;
+  for (std::size_t r = 1; r < a.size(); ++r) {
+    d.worst = std::max(d.worst, std::fabs(a[r] - b[r]));
+    d.scale = std::max(d.scale, std::fabs(b[r]));
+  }
+  return d;
+}
+
 }  // namespace mo::e2e

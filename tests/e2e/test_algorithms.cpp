@@ -81,12 +81,7 @@ TEST_CASE("algorithms: sensitivities through the branches and the table equal fi
     for (const char* name : {"x", "v"}) {
       const auto fds = richardson_difference(*plain, p, k, h, grid(), name);
       const auto mine = column(s.trajectory, "d(" + std::string(name) + ")/d(" + names[j] + ")");
-      double worst = 0, scale = 0;
-      for (std::size_t r = 1; r < grid().times.size(); ++r) {
-        const double fd = fds[r];
-        worst = std::max(worst, std::fabs(mine[r] - fd));
-        scale = std::max(scale, std::fabs(fd));
-      }
+      const auto [worst, scale] = deviation_after_t0(mine, fds);
       INFO("d(" << name << ")/d(" << names[j] << "): max error " << worst << " of " << scale);
       CHECK(scale > 1e-3);
       CHECK(worst < 1e-4 * scale);

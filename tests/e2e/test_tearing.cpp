@@ -139,12 +139,7 @@ TEST_CASE("tearing: sensitivities through the torn block equal finite difference
     for (const char* name : {"Tc", "Td"}) {
       const auto fds = richardson_difference(*plain, p, k, h, grid(), name);
       const auto mine = column(s.trajectory, "d(" + std::string(name) + ")/d(" + names[j] + ")");
-      double worst = 0, scale = 0;
-      for (std::size_t r = 1; r < grid().times.size(); ++r) {
-        const double fd = fds[r];
-        worst = std::max(worst, std::fabs(mine[r] - fd));
-        scale = std::max(scale, std::fabs(fd));
-      }
+      const auto [worst, scale] = deviation_after_t0(mine, fds);
       INFO("d(" << name << ")/d(" << names[j] << "): max error " << worst << " of " << scale);
       CHECK(scale > 1e-4);
       // The differences carry the Newton and integrator noise of the runs (about
