@@ -6,6 +6,8 @@ find_package(nlohmann_json 3 REQUIRED)
 find_package(antlr4-runtime REQUIRED)
 find_package(PkgConfig REQUIRED)
 pkg_check_modules(IPOPT REQUIRED IMPORTED_TARGET ipopt)
+# MATLAB .mat files (v4, v5, v7.3): result files and measurements (libmatio-dev).
+pkg_check_modules(MATIO REQUIRED IMPORTED_TARGET matio)
 
 find_program(ANTLR4_TOOL antlr4 REQUIRED)
 

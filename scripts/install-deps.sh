@@ -23,6 +23,7 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev coinor-libipopt-dev libsundials-dev
   antlr4 libantlr4-runtime-dev libfmt-dev catch2 libcli11-dev nlohmann-json3-dev
+  libmatio-dev  # MATLAB .mat result and measurement files
   libexpat1-dev  # reads the init file Scilab writes beside a diagram's flat model
   gnuplot-nox jq clang-14 libclang-rt-14-dev
   chromium  # the test that opens report.html headless
