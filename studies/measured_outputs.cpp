@@ -1,6 +1,8 @@
 // Any variable as a measured output; see measured_outputs.hpp.
 #include "measured_outputs.hpp"
 
+#include "mo/runtime/mat_file.hpp"
+
 #include <fstream>
 #include <optional>
 #include <sstream>
@@ -43,6 +45,7 @@ std::vector<std::string> add_measured_outputs(symbolic::OdeModel& model,
 }
 
 std::vector<std::string> csv_columns(const std::string& path) {
+  if (runtime::is_mat_file(path)) return {};  // its measured columns are named by `outputs`
   std::ifstream in(path);
   std::string line;
   while (std::getline(in, line)) {

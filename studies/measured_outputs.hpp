@@ -20,7 +20,8 @@ std::vector<std::string> add_measured_outputs(symbolic::OdeModel& model,
                                               const std::vector<std::string>& names);
 
 /// The column names after `time` of a measurement CSV's header (the first
-/// line that is neither empty nor a `#` comment); empty if unreadable.
+/// line that is neither empty nor a `#` comment); empty if unreadable or a
+/// .mat file (whose measured vectors are named by study option outputs).
 std::vector<std::string> csv_columns(const std::string& path);
 
 }  // namespace mo::tools

@@ -3,12 +3,15 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
 #include "common.hpp"
+#include "mo/runtime/input.hpp"
+#include "mo/runtime/mat_file.hpp"
 #include "mo/runtime/result.hpp"
 #include "mo/runtime/simulate.hpp"
 
@@ -43,6 +46,46 @@ void write_json(const std::string& path, const json& j) {
   runtime::write_file_atomic(path, [&](std::ostream& os) { os << j.dump(2) << "\n"; });
 }
 
+/// study option sigma: one value for all outputs or one per output.
+std::vector<double> sigma_for(const StudyOptions& options, std::size_t outputs, const std::string& path) {
+  std::vector<double> sigma = options.sigma;
+  if (sigma.size() == 1) sigma.assign(outputs, sigma[0]);
+  if (sigma.size() != outputs)
+    throw UsageError(fmt::format("study option 'sigma' has {} values for the {} measured outputs of {}",
+                                 sigma.size(), outputs, path));
+  return sigma;
+}
+
+/// Measurements from a .mat file: the columns named by study option outputs.
+runtime::MeasurementTable mat_measurements(const std::string& path, const runtime::ModelInfo& info,
+                                           const StudyOptions& options) {
+  runtime::InputTable table;
+  try {
+    table = runtime::read_result_table(path);
+  } catch (const runtime::InputFileError& e) {
+    throw UsageError(e.what());
+  }
+  if (options.outputs.empty())
+    throw UsageError(path + ": error: a .mat measurement file needs study option 'outputs' naming the "
+                            "measured variables (the file's vectors or variables of those names)");
+  runtime::MeasurementTable t;
+  t.times = table.times;
+  t.values.resize(static_cast<Eigen::Index>(t.times.size()), static_cast<Eigen::Index>(options.outputs.size()));
+  for (std::size_t c = 0; c < options.outputs.size(); ++c) {
+    const std::string& name = options.outputs[c];
+    const auto it = std::find(table.names.begin(), table.names.end(), name);
+    if (it == table.names.end()) throw UsageError(path + ": error: no vector or variable '" + name + "'");
+    const auto k = info.output_index(name);
+    if (!k) throw UsageError(path + ": error: '" + name + "' is not a variable of the model");
+    t.outputs.push_back(*k);
+    const auto& column = table.columns[static_cast<std::size_t>(it - table.names.begin())];
+    for (std::size_t r = 0; r < t.times.size(); ++r)
+      t.values(static_cast<Eigen::Index>(r), static_cast<Eigen::Index>(c)) = column[r];
+  }
+  t.sigma = sigma_for(options, t.outputs.size(), path);
+  return t;
+}
+
 }  // namespace
 
 runtime::Inputs inputs_of(const std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>>& m,
@@ -60,6 +103,7 @@ std::string resolve_path(const std::string& study_file, const std::string& path)
 
 runtime::MeasurementTable read_measurements(const std::string& path, const runtime::ModelInfo& info,
                                             const StudyOptions& options) {
+  if (runtime::is_mat_file(path)) return mat_measurements(path, info, options);
   std::ifstream in(path);
   if (!in) throw UsageError(path + ": error: cannot read the measurement file");
   std::string line;
@@ -111,11 +155,7 @@ runtime::MeasurementTable read_measurements(const std::string& path, const runti
     for (std::size_t r = 0; r < t.outputs.size(); ++r)
       t.values(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(r)) = rows[k][r + 1];
   }
-  t.sigma = options.sigma;
-  if (t.sigma.size() == 1) t.sigma.assign(t.outputs.size(), t.sigma[0]);
-  if (t.sigma.size() != t.outputs.size())
-    throw UsageError(fmt::format("study option 'sigma' has {} values for the {} measured outputs of {}",
-                                 t.sigma.size(), t.outputs.size(), path));
+  t.sigma = sigma_for(options, t.outputs.size(), path);
   return t;
 }
 

@@ -59,7 +59,7 @@ std::unique_ptr<runtime::InputSignal> parse_signal(const std::string& name, cons
   }
   if (kind == "const") return runtime::constant_input(number(args, context));
   if (kind == "csv" || kind == "pwc") {
-    auto table = runtime::read_input_csv(args);
+    auto table = runtime::read_result_table(args);  // CSV, Dymola text or .mat
     const auto it = std::find(table.names.begin(), table.names.end(), name);
     if (it == table.names.end())
       throw UsageError(context + ": " + args + " has no column named '" + name + "'");
