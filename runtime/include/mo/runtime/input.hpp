@@ -87,14 +87,15 @@ InputTable read_input_csv(const std::string& path);
 InputTable parse_input_csv(std::string_view text, const std::string& source_name);
 
 /// A simulation or optimisation result read as a table of signals, for initial
-/// guesses: a CSV file (as read_input_csv: mocompile's result.csv or
-/// trajectories.csv), or Dymola's textual result format (first line `#1`, then
-/// the matrices Aclass, name, description, dataInfo, data_1 and data_2 as text;
-/// Dymola's and JModelica's `.txt` results): every variable becomes a column,
-/// those of data_1 (parameters) constant, negated aliases (a negative dataInfo
-/// column) negated. A time that repeats more than twice keeps its first and
-/// last rows. Throws InputFileError naming the file on anything else (a binary
-/// `.mat` file included) or on a malformed matrix.
+/// guesses, measurements and input signals: a CSV file (as read_input_csv:
+/// mocompile's result.csv or trajectories.csv), Dymola's textual result format
+/// (first line `#1`, then the matrices Aclass, name, description, dataInfo,
+/// data_1 and data_2 as text; Dymola's and JModelica's `.txt` results), or a
+/// MATLAB .mat file (see is_mat_file in mat_file.hpp). In Dymola's layout every
+/// variable becomes a column, those of data_1 (parameters) constant, negated
+/// aliases (a negative dataInfo column) negated. A time that repeats more than
+/// twice keeps its first and last rows. Throws InputFileError naming the file
+/// on anything else or on a malformed matrix.
 InputTable read_result_table(const std::string& path);
 
 /// The signal of column `column` of `table` (shared, not copied).
