@@ -17,6 +17,7 @@
 #include <iostream>
 
 #include "mo/runtime/simulate.hpp"
+#include "mpi_world.hpp"
 #include "study_internal.hpp"
 #include "study_output.hpp"
 #include "study_phases.hpp"
@@ -79,14 +80,112 @@ runtime::MeasurementDesign add_samples(PhasedModel& pm, const symbolic::OdeModel
   return out;
 }
 
-/// What one multi-phase design solve gives, on physical time.
-struct PhasedDesign {
-  runtime::InputDesignResult result;  ///< optimization on physical time, F of the collocation and re-simulated
-  EventCheck check;
-  ModeSequence seq;
-  std::vector<double> switches;
-  std::size_t phases = 0;
+/// What stays the same from one start of a multi-phase design to the next.
+struct EventDesignSetup {
+  const RelationMap& rel;
+  runtime::OptimalControlProblem P;      ///< the base problem on physical time
+  runtime::OptimalControlProblem Pphys;  ///< P without blocking factors: the result's grid
+  std::vector<std::size_t> J;            ///< designed parameters
+  runtime::MeasurementDesign m;
+  runtime::DesignCriterion crit = runtime::DesignCriterion::T;
+  double min_gap = 0, time_tol = 0;
+  std::optional<std::size_t> lagrange;
 };
+
+/// Solves the multi-phase design from `guess`: records the guess's modes,
+/// builds and solves the phased problem, re-simulates, and solves again with
+/// the re-simulated mode sequence while it changes (kMaxAttempts solves).
+/// `isolated` (a forked multistart worker): no progress line, Ipopt's log to `log_file`.
+EventDesignRun solve_event_design(const Study& s, symbolic::OdeModel& ode, const EventDesignSetup& e, Guess guess,
+                                  const std::string& log_file, bool isolated) {
+  const runtime::ModelInfo& info = s.info();
+  const runtime::OptimalControlProblem& P = e.P;
+  RunContext* run = isolated ? nullptr : s.cli.run;
+  EventDesignRun out;
+  std::map<std::size_t, double> moved;
+  for (int attempt = 1; attempt <= kMaxAttempts; ++attempt) {
+    const runtime::Inputs inputs = guess_inputs(guess, P, info.inputs.size());
+    ModeRecording rec =
+        record_modes(*s.built.model, ode, e.rel, inputs, guess.parameters, P.t0, P.tf, kMaxSwitches, e.min_gap);
+    if (rec.refusal) {
+      out.refusal = rec.refusal;
+      return out;
+    }
+    if (!rec.sequence) {
+      out.error = "the simulation of the guess failed: " + rec.simulation_failure;
+      return out;
+    }
+    ModeSequence seq = *rec.sequence;
+    for (const auto& [k, t] : moved)
+      if (k < seq.switches.size()) seq.switches[k].time = t;
+    moved.clear();
+    std::string why;
+    auto layout = sample_layout(*s.built.model, seq, e.m.times, inputs, guess.parameters, P.t0, P.tf, e.min_gap, why);
+    if (!layout) {
+      out.error = "design on a model with events: " + why;
+      return out;
+    }
+    PhasedModel pm = build_phased_model(ode, e.rel, seq, *layout, P.t0, P.tf, e.lagrange);
+    runtime::InputDesignProblem d;
+    d.parameters = e.J;
+    d.criterion = e.crit;
+    d.measurements = add_samples(pm, ode, e.m, e.J, P.t0);
+    std::cerr << fmt::format("morun: events: {} modes ({}), {} phases cut at the measurement times\n",
+                             seq.modes.size(), describe_modes(ode, seq), pm.phases);
+    BuiltModel built = build_model(pm.ode, s.cli.jobs, "morun", run, s.cli.quiet || isolated);
+    runtime::OptimalControlProblem Pk = P;
+    Pk.collocation.n_e = std::max(2, (P.collocation.n_e + static_cast<int>(pm.phases) - 1) / static_cast<int>(pm.phases));
+    d.ocp = phased_problem(Pk, pm, seq, guess, info, e.min_gap, true);
+    d.ocp.solver.log_file = log_file.empty() ? d.ocp.solver.log_file : log_file;
+    if (isolated) d.ocp.solver.progress = nullptr;
+    runtime::InputDesignResult r;
+    {
+      PhaseScope phase(run, "solve", fmt::format("input design, {} phases", pm.phases));
+      r = runtime::design_input(*built.model, d);
+    }
+    move_to_simulate(run, r.optimization.timings.resimulation);
+    const std::vector<double> taus = boundary_times(pm, r.optimization, P.t0, P.tf);
+    const std::vector<double> switches = solved_switch_times(pm, r.optimization);
+    out.result.optimization = physical_result(pm, r.optimization, taus, info, P.controls.size());
+    runtime::OptimizationResult& R = out.result.optimization;
+    runtime::OptimalControlProblem Pphys = e.Pphys;
+    Pphys.collocation.n_e = static_cast<int>(R.element_times.size()) - 1;
+    EventCheck check = check_resimulation(*s.built.model, ode, e.rel, seq, Pphys, R, switches, e.min_gap);
+    const bool same = check.same_modes && check.modes &&
+                      interleaving(*check.modes, e.m.times, P.t0) == interleaving(seq, e.m.times, P.t0);
+    out.status = event_status(R, check, same, e.time_tol, kStateTolerance);
+    out.events = events_json(ode, seq, check, pm.phases, attempt, switches, same, e.time_tol, kStateTolerance);
+    out.result.fisher_collocation = r.fisher_collocation;
+    out.result.information_collocation = r.information_collocation;
+    out.result.information_resimulated = std::nan("");
+    out.result.fisher_resimulated.resize(0, 0);
+    if (R.parameters.size() == info.parameters.size() && check.modes) {  // check.modes: the phases ascend
+      try {
+        out.result.fisher_resimulated = runtime::fisher_information(
+            *s.built.model, runtime::optimal_inputs(Pphys, R, info.inputs.size()), R.parameters, P.t0, e.m, e.J);
+        out.result.information_resimulated = runtime::criterion_information(e.crit, out.result.fisher_resimulated);
+      } catch (const std::runtime_error& ex) {
+        R.check.message += std::string(" (Fisher replay: ") + ex.what() + ")";
+      }
+    }
+    std::cerr << fmt::format("morun: attempt {}: {}; re-simulated: {}, largest state difference {:.3g} of scale\n",
+                             attempt, runtime::to_string(R.status),
+                             check.modes ? describe_modes(ode, *check.modes) : check.failure, check.max_relative);
+    if (!R.message.empty()) std::cerr << "morun: " << R.message << "\n";
+    if (out.status == "success" || out.status == "acceptable") {
+      moved = stuck_switches(switches, e.m.times, P.t0, P.tf, 10 * e.min_gap);
+      if (!moved.empty()) out.status = "switch_at_sample_time";
+    }
+    if ((out.status != "mode_sequence_changed" && out.status != "switch_at_sample_time") || attempt == kMaxAttempts)
+      break;
+    if (R.parameters.size() == info.parameters.size()) guess.parameters = R.parameters;
+    for (std::size_t c = 0; c < P.controls.size() && check.modes; ++c) {
+      std::vector<double> starts(R.element_times.begin(), R.element_times.end() - 1);
+      guess.controls[c] = runtime::piecewise_constant_input(starts, R.control_values[c]);
+    }
+  }
+  return out;
+}
 
 }  // namespace
 
@@ -98,116 +197,65 @@ int design_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOp
   if (auto r = check_event_constructs(ode, rel)) return refuse_phases(flat, *r, diags);
   Study s{flat, cli, std::move(opt), std::move(problem), build_model(ode, cli.jobs, "morun", cli.run, cli.quiet)};
   const runtime::ModelInfo& info = s.info();
-  if (!s.opt.starts.empty() || s.opt.random_starts > 0)
-    throw UsageError("design on a model with events takes one start (no study option starts)");
-  const runtime::OptimalControlProblem P = base_problem(s);
-  std::vector<std::size_t> J;
-  for (const auto& name : s.opt.parameters) J.push_back(parameter_index(info, name));
-  const runtime::MeasurementDesign m = measurements(s, P.t0, P.tf);
-  const runtime::DesignCriterion crit = criterion_of(s.opt.criterion);
-  const double min_gap = 1e-6 * (P.tf - P.t0), time_tol = kTimeTolerance * (P.tf - P.t0);
-  std::optional<std::size_t> lagrange;
-  if (!P.lagrange.empty()) lagrange = P.lagrange.front().output;
-  Guess guess = initial_guess(P);
-  runtime::OptimalControlProblem Pphys = P;
-  for (auto& c : Pphys.controls) c.blocking_factors.clear();
-  runtime::InputDesignResult result;
-  std::string status;
-  nlohmann::json events;
-  std::map<std::size_t, double> moved;
-  for (int attempt = 1; attempt <= kMaxAttempts; ++attempt) {
-    const runtime::Inputs inputs = guess_inputs(guess, P, info.inputs.size());
-    ModeRecording rec = record_modes(*s.built.model, ode, rel, inputs, guess.parameters, P.t0, P.tf, kMaxSwitches, min_gap);
-    if (rec.refusal) return refuse_phases(flat, *rec.refusal, diags);
-    if (!rec.sequence) {
-      std::cerr << "morun: error: the simulation of the guess failed: " << rec.simulation_failure << "\n";
+  EventDesignSetup e{rel, base_problem(s), {}, {}, {}, criterion_of(s.opt.criterion), 0, 0, std::nullopt};
+  const runtime::OptimalControlProblem& P = e.P;
+  for (const auto& name : s.opt.parameters) e.J.push_back(parameter_index(info, name));
+  e.m = measurements(s, P.t0, P.tf);
+  e.min_gap = 1e-6 * (P.tf - P.t0);
+  e.time_tol = kTimeTolerance * (P.tf - P.t0);
+  if (!P.lagrange.empty()) e.lagrange = P.lagrange.front().output;
+  e.Pphys = P;
+  for (auto& c : e.Pphys.controls) c.blocking_factors.clear();
+  const std::vector<DesignStart> starts = design_starts(s.opt, P, info);
+  const MultistartSettings settings{s.cli.jobs, s.cli.output, s.opt.cluster_tol, s.cli.run};
+  auto guess_of = [&](const DesignStart& start) {
+    Guess g = initial_guess(P);
+    for (std::size_t c = 0; c < g.controls.size() && c < start.guesses.size(); ++c)
+      if (start.guesses[c]) g.controls[c] = start.guesses[c];
+    return g;
+  };
+  EventDesignRun best;
+  std::optional<MultistartResult> multi;
+  if (starts.size() > 1) {
+    multi = event_design_multistart(starts, settings, [&](std::size_t k, const std::string& log, bool isolated) {
+      return solve_event_design(s, ode, e, guess_of(starts[k]), log, isolated);
+    }, best);
+    if (!multi) return 0;  // an MPI rank other than 0: rank 0 writes the results
+  } else {
+    if (!mpi_world().root()) return 0;
+    best = solve_event_design(s, ode, e, guess_of(starts[0]), "", false);
+    if (best.refusal) return refuse_phases(flat, *best.refusal, diags);
+    if (!best.error.empty()) {
+      std::cerr << "morun: error: " << best.error << "\n";
       return 1;
-    }
-    ModeSequence seq = *rec.sequence;
-    for (const auto& [k, t] : moved)
-      if (k < seq.switches.size()) seq.switches[k].time = t;
-    moved.clear();
-    std::string why;
-    auto layout = sample_layout(*s.built.model, seq, m.times, inputs, guess.parameters, P.t0, P.tf, min_gap, why);
-    if (!layout) {
-      std::cerr << "morun: error: design on a model with events: " << why << "\n";
-      return 1;
-    }
-    PhasedModel pm = build_phased_model(ode, rel, seq, *layout, P.t0, P.tf, lagrange);
-    runtime::InputDesignProblem d;
-    d.parameters = J;
-    d.criterion = crit;
-    d.measurements = add_samples(pm, ode, m, J, P.t0);
-    std::cerr << fmt::format("morun: events: {} modes ({}), {} phases cut at the measurement times\n",
-                             seq.modes.size(), describe_modes(ode, seq), pm.phases);
-    BuiltModel built = build_model(pm.ode, cli.jobs, "morun", cli.run, cli.quiet);
-    runtime::OptimalControlProblem Pk = P;
-    Pk.collocation.n_e = std::max(2, (P.collocation.n_e + static_cast<int>(pm.phases) - 1) / static_cast<int>(pm.phases));
-    d.ocp = phased_problem(Pk, pm, seq, guess, info, min_gap, true);
-    runtime::InputDesignResult r;
-    {
-      PhaseScope phase(cli.run, "solve", fmt::format("input design, {} phases", pm.phases));
-      r = runtime::design_input(*built.model, d);
-    }
-    move_to_simulate(cli.run, r.optimization.timings.resimulation);
-    const std::vector<double> taus = boundary_times(pm, r.optimization, P.t0, P.tf);
-    const std::vector<double> switches = solved_switch_times(pm, r.optimization);
-    result.optimization = physical_result(pm, r.optimization, taus, info, P.controls.size());
-    runtime::OptimizationResult& R = result.optimization;
-    Pphys.collocation.n_e = static_cast<int>(R.element_times.size()) - 1;
-    EventCheck check = check_resimulation(*s.built.model, ode, rel, seq, Pphys, R, switches, min_gap);
-    const bool same = check.same_modes && check.modes &&
-                      interleaving(*check.modes, m.times, P.t0) == interleaving(seq, m.times, P.t0);
-    status = event_status(R, check, same, time_tol, kStateTolerance);
-    events = events_json(ode, seq, check, pm.phases, attempt, switches, same, time_tol, kStateTolerance);
-    result.fisher_collocation = r.fisher_collocation;
-    result.information_collocation = r.information_collocation;
-    result.information_resimulated = std::nan("");
-    result.fisher_resimulated.resize(0, 0);
-    if (R.parameters.size() == info.parameters.size() && check.modes) {  // check.modes: the phases ascend
-      try {
-        result.fisher_resimulated = runtime::fisher_information(
-            *s.built.model, runtime::optimal_inputs(Pphys, R, info.inputs.size()), R.parameters, P.t0, m, J);
-        result.information_resimulated = runtime::criterion_information(crit, result.fisher_resimulated);
-      } catch (const std::runtime_error& e) {
-        R.check.message += std::string(" (Fisher replay: ") + e.what() + ")";
-      }
-    }
-    std::cerr << fmt::format("morun: attempt {}: {}; re-simulated: {}, largest state difference {:.3g} of scale\n",
-                             attempt, runtime::to_string(R.status),
-                             check.modes ? describe_modes(ode, *check.modes) : check.failure, check.max_relative);
-    if (!R.message.empty()) std::cerr << "morun: " << R.message << "\n";
-    if (status == "success" || status == "acceptable") {
-      moved = stuck_switches(switches, m.times, P.t0, P.tf, 10 * min_gap);
-      if (!moved.empty()) status = "switch_at_sample_time";
-    }
-    if ((status != "mode_sequence_changed" && status != "switch_at_sample_time") || attempt == kMaxAttempts) break;
-    if (R.parameters.size() == info.parameters.size()) guess.parameters = R.parameters;
-    for (std::size_t c = 0; c < P.controls.size() && check.modes; ++c) {
-      std::vector<double> starts(R.element_times.begin(), R.element_times.end() - 1);
-      guess.controls[c] = runtime::piecewise_constant_input(starts, R.control_values[c]);
     }
   }
+  runtime::OptimalControlProblem Pphys = e.Pphys;
+  Pphys.collocation.n_e = static_cast<int>(best.result.optimization.element_times.size()) - 1;
   runtime::InputDesignProblem dphys;
   dphys.ocp = Pphys;
-  dphys.parameters = J;
-  dphys.measurements = m;
-  dphys.criterion = crit;
-  nlohmann::json extra = design_json(info, dphys, result);
-  extra["status"] = status;
-  extra["events"] = events;
-  write_optimization_outputs(cli.output, info, Pphys, result.optimization, extra);
-  write_designed_input(cli.output, info, Pphys, result.optimization);
+  dphys.parameters = e.J;
+  dphys.measurements = e.m;
+  dphys.criterion = e.crit;
+  nlohmann::json extra = design_json(info, dphys, best.result);
+  extra["status"] = best.status;
+  extra["events"] = best.events;
+  if (multi) {
+    extra["design"]["multistart"] = multistart_json(*multi, settings);
+    print_multistart(std::cerr, *multi, s.opt.criterion, settings);
+  }
+  write_optimization_outputs(cli.output, info, Pphys, best.result.optimization, extra);
+  write_designed_input(cli.output, info, Pphys, best.result.optimization);
   if (s.opt.plot || cli.plot)
     plot_optimization(cli.output, info, Pphys, s.problem,
                       fmt::format("{}-optimal input design ({} phases)", s.opt.criterion,
-                                  events["phases"].get<std::size_t>()));
+                                  best.events.value("phases", std::size_t{0})));
   std::cerr << fmt::format("morun: {}-criterion information: {:.6g} (collocation), {:.6g} (re-simulated through "
                            "the events)\n",
-                           s.opt.criterion, result.information_collocation, result.information_resimulated);
-  std::cerr << fmt::format("morun: input design {}: objective {:.6g} after {} iterations\n", status,
-                           result.optimization.objective, result.optimization.iterations);
-  return status == "success" || status == "acceptable" ? 0 : 1;
+                           s.opt.criterion, best.result.information_collocation, best.result.information_resimulated);
+  std::cerr << fmt::format("morun: input design {}: objective {:.6g} after {} iterations\n", best.status,
+                           best.result.optimization.objective, best.result.optimization.iterations);
+  return best.status == "success" || best.status == "acceptable" ? 0 : 1;
 }
 
 }  // namespace mo::tools

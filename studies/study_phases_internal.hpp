@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <optional>
@@ -10,6 +11,7 @@
 #include <vector>
 
 #include "mo/runtime/optimize.hpp"
+#include "multistart.hpp"
 #include "study_phases.hpp"
 
 namespace mo::tools {
@@ -101,6 +103,27 @@ nlohmann::json events_json(const symbolic::OdeModel& ode, const ModeSequence& se
                            double time_tol, double state_tol);
 
 /// Reports `r` at its when-clause (or the first switching construct) and prints the diagnostics; returns 1.
+/// How one start of a multi-phase design ended.
+struct EventDesignRun {
+  runtime::InputDesignResult result;  ///< on physical time (Pphys's grid)
+  std::string status;                 ///< event_status(), "switch_at_sample_time", or empty with `error`
+  nlohmann::json events;              ///< summary.json's "events"
+  std::optional<PhaseRefusal> refusal;  ///< the guess's simulation cannot be cut into phases
+  std::string error;                    ///< the guess's simulation or layout failed
+};
+
+/// The multistart of a multi-phase design (issue 11's multistart on a model
+/// with events): `solve(k, log_file, isolated)` solves start k (its own mode
+/// sequence from its own guess) on the parallel runner; a start converged when
+/// its status is success or acceptable with a finite criterion. Returns the
+/// starts, their local optima (cluster_optima) and, in `best`, the best
+/// converged start's run (else the first start that has a result). nullopt on
+/// MPI ranks other than 0. Throws std::runtime_error if no start has a result.
+std::optional<MultistartResult> event_design_multistart(
+    const std::vector<DesignStart>& starts, const MultistartSettings& settings,
+    const std::function<EventDesignRun(std::size_t k, const std::string& log_file, bool isolated)>& solve,
+    EventDesignRun& best);
+
 int refuse_phases(const frontend::flat::Model& flat, const PhaseRefusal& r, frontend::DiagnosticEngine& diags);
 
 }  // namespace mo::tools
