@@ -224,7 +224,8 @@ Translation Translator::translate(const XcosBlock& b) const {
   switch (kind) {
     case Kind::Constant:
     case Kind::ConstantOpar: {
-      const auto& c = field(b, kind == Kind::Constant ? "rpar" : "opar");
+      // CONST_m keeps its value in opar (cstblk4_m) or, in older diagrams, in rpar.
+      const auto& c = field(b, kind == Kind::ConstantOpar || rpar.empty() ? "opar" : "rpar");
       if (c.size() != 1) return fail("its constant is not one real number");
       return simple(num(c[0]));
     }

@@ -294,13 +294,22 @@ try
     end
     missing = mo_missing(guis);
     if getenv("MO_XCOS_MODE", "") == "blocks" then
-        // Only the blocks and links (out/blocks.txt): the compiler's first
-        // pass, with the parameters stored in the diagram; blocks whose
-        // interface functions are missing keep their stored model.
+        // Only the blocks and links (out/blocks.txt), as Xcos compiles the
+        // diagram (context, each block's parameters evaluated, first pass),
+        // stopped before the Modelica part is translated. A block whose
+        // interface function is missing (a Modelica block of a library that
+        // is not installed) keeps the model stored in the diagram: its
+        // stand-in returns the block unchanged.
+        for k = 1:size(missing, "*")
+            if mo_plain(missing(k)) & isempty(strindex(missing(k), ".")) then
+                deff("[x, y, typ] = " + missing(k) + "(job, arg1, arg2)", "x = arg1; y = []; typ = [];");
+            end
+        end
+        scs_m.props.title(1) = mo_safe_title(scs_m.props.title(1));
         try
-            [mo_b, mo_c, mo_cc, mo_cor, mo_corinv, mo_ok] = c_pass1(scs_m);
+            [cpr, ok] = xcos_compile(scs_m);
         catch
-            mprintf("mocompile: c_pass1 stopped: %s\n", lasterror());
+            mprintf("mocompile: xcos_compile stopped: %s\n", lasterror());
         end
         if isfile(mo_work + "/out/blocks.txt") then
             status = "ok";
