@@ -292,7 +292,9 @@ std::vector<std::string> close_diagram_loop(ExtractedDiagram& diagram, const std
   try {
     closed = with_closed_loop(text.str(), loop);
   } catch (const std::runtime_error& e) {
-    throw DiagramError(diagram.flat_file().string() + ": error: " + e.what());
+    lines.push_back(tool + ": warning: the diagram's blocks are not joined to its flat model: " + e.what() +
+                    "; its inputs stay open (drive them with morun --input NAME=SPEC)");
+    return lines;
   }
   fs::path file = diagram.flat_file();
   file.replace_filename(file.stem().string() + "_closed.mo");

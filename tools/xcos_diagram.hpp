@@ -75,8 +75,9 @@ std::unique_ptr<ExtractedDiagram> extract_flat_model(const std::string& diagram,
 /// (xcos_blocks.hpp): writes `<title>_imf_closed.mo` (same class) beside the
 /// flat file and makes it the diagram's flat file. Returns the lines for
 /// stderr: which blocks were translated, and a warning for each input that
-/// stays open. Does nothing without a block list. Throws DiagramError when
-/// the block list is malformed.
+/// stays open (all of them when the flat file is not shaped as Xcos writes
+/// it). Does nothing without a block list. Throws DiagramError when the
+/// block list is malformed.
 std::vector<std::string> close_diagram_loop(ExtractedDiagram& diagram, const std::string& tool);
 
 /// One line naming the inputs of `model` that the diagram's non-Modelica
