@@ -22,6 +22,8 @@
 #include "mo/runtime/input.hpp"
 #include "mo/runtime/simulate.hpp"
 #include "pipeline.hpp"
+#include "xcos_blocks.hpp"
+#include "xcos_diagram.hpp"
 
 namespace fs = std::filesystem;
 
@@ -350,7 +352,50 @@ tools::ModelSource hier_source(const std::string& corpus, const std::string& nam
 }
 
 DiagramResult check_diagram_in_process(const std::string& corpus, const std::string& name, const Libraries& libs,
-                                       bool hier_only);
+                                       bool hier_only, const std::string& closed_flat);
+
+/// A diagram whose recorded inputs are driven by non-Modelica blocks, closed
+/// through them (tools/xcos_blocks.hpp): Scilab lists the diagram's blocks
+/// (its first compile pass, no block library needed), the supported ones
+/// become Modelica equations in a copy of the flat file.
+struct Closing {
+  std::unique_ptr<tools::ExtractedDiagram> listing;  ///< holds the temporary folder
+  std::string file;                                  ///< the closed flat file, or empty
+  std::string note;                                  ///< what was closed, or why not
+};
+
+Closing close_inputs(const std::string& corpus, const std::string& name, const Reference& ref) {
+  Closing c;
+  const auto kinds = ref.meta.value("column_kinds", std::vector<std::string>{});
+  if (std::find(kinds.begin(), kinds.end(), "input") == kinds.end()) return c;
+  fs::path diagram = fs::path(corpus) / "diagrams" / (name + ".zcos");
+  if (!fs::exists(diagram)) diagram.replace_extension(".xcos");
+  tools::DiagramOptions options;
+  options.blocks_only = true;
+  options.quiet = true;
+  options.timeout_seconds = 300;
+  try {
+    c.listing = tools::extract_flat_model(diagram.string(), options);
+    const auto blocks = tools::read_xcos_blocks(c.listing->blocks_file());
+    std::ifstream in(fs::path(corpus) / "flat" / (name + ".mo"), std::ios::binary);
+    std::stringstream text;
+    text << in.rdbuf();
+    const auto loop = tools::close_xcos_loop(blocks, text.str());
+    if (loop.closed.empty()) {
+      c.note = "inputs driven from the recording" + (loop.warnings.empty() ? "" : " (" + loop.warnings[0] + ")");
+      return c;
+    }
+    c.file = (c.listing->work_dir() / (name + "_closed.mo")).string();
+    std::ofstream(c.file, std::ios::binary) << tools::with_closed_loop(text.str(), loop);
+    std::string names;
+    for (const auto& t : loop.translated) names += (names.empty() ? "" : ", ") + t;
+    c.note = fmt::format("closed through {}{}", names, loop.warnings.empty() ? "" : " (" + loop.warnings[0] + ")");
+  } catch (const std::exception& e) {
+    c.file.clear();
+    c.note = "inputs driven from the recording (" + first_lines(e.what()) + ")";
+  }
+  return c;
+}
 
 /// Runs `steps` in a child process, so that a crash of the front end is a
 /// failed step (named by its signal), not the end of the whole check.
@@ -396,22 +441,30 @@ std::vector<StepResult> in_child(std::size_t count, const std::function<std::vec
 DiagramResult check_diagram(const std::string& corpus, const std::string& name, const Libraries& libs) {
   DiagramResult r;
   r.name = name;
-  r.hier = in_child(1, [&] { return std::vector<StepResult>{check_diagram_in_process(corpus, name, libs, true).hier}; })[0];
+  r.hier =
+      in_child(1, [&] { return std::vector<StepResult>{check_diagram_in_process(corpus, name, libs, true, "").hier}; })[0];
+  Closing closing;
+  try {
+    closing = close_inputs(corpus, name, read_reference(corpus, name));
+  } catch (const std::exception&) {
+    // the reference is unreadable: the flat step says so
+  }
   const auto rest = in_child(4, [&] {
-    const DiagramResult d = check_diagram_in_process(corpus, name, libs, false);
+    const DiagramResult d = check_diagram_in_process(corpus, name, libs, false, closing.file);
     return std::vector<StepResult>{d.flat, d.lower, d.simulate, d.compare};
   });
   r.flat = rest[0];
   r.lower = rest[1];
   r.simulate = rest[2];
   r.compare = rest[3];
+  if (!closing.note.empty() && r.simulate.ran) r.simulate.detail += "; " + closing.note;
   return r;
 }
 
 namespace {
 
 DiagramResult check_diagram_in_process(const std::string& corpus, const std::string& name, const Libraries& libs,
-                                       bool hier_only) {
+                                       bool hier_only, const std::string& closed_flat) {
   DiagramResult r;
   r.name = name;
   Reference ref;
@@ -423,6 +476,7 @@ DiagramResult check_diagram_in_process(const std::string& corpus, const std::str
   }
   tools::ModelSource flat_source;
   flat_source.file = (fs::path(corpus) / "flat" / (name + ".mo")).string();
+  if (!hier_only && !closed_flat.empty()) flat_source.file = closed_flat;
   flat_source.libs = aux_files(corpus, name);
   Loaded flat = load(flat_source);
   r.flat = {true, flat.model != nullptr, flat.model ? fmt::format("{} variables", flat.model->variables.size())

@@ -220,8 +220,13 @@ int main(int argc, char **argv) {
   try {
     if (mo::tools::is_diagram_file(opt.input)) {
       opt.diagram.quiet = true;  // the progress line shows the "diagram" stage
-      mo::tools::PhaseScope phase(&ctx, "diagram", opt.input);
-      diagram = mo::tools::extract_flat_model(opt.input, opt.diagram);
+      std::vector<std::string> notes;
+      {
+        mo::tools::PhaseScope phase(&ctx, "diagram", opt.input);
+        diagram = mo::tools::extract_flat_model(opt.input, opt.diagram);
+        if (!opt.diagram.open_loop) notes = mo::tools::close_diagram_loop(*diagram, opt.diagram.tool);
+      }
+      for (const auto& line : notes) std::cerr << line << "\n";
       opt.input = diagram->flat_file().string();
       if (opt.diagram.init_fixed) opt.init_file = diagram->init_file().string();
       opt.from_diagram = true;

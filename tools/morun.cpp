@@ -326,8 +326,13 @@ int main(int argc, char** argv) {
     if (tools::is_diagram_file(opt.source.file)) {
       opt.diagram.tool = "morun";
       opt.diagram.quiet = true;  // the progress line shows the "diagram" stage
-      tools::PhaseScope phase(&ctx, "diagram", opt.source.file);
-      diagram = tools::extract_flat_model(opt.source.file, opt.diagram);
+      std::vector<std::string> notes;
+      {
+        tools::PhaseScope phase(&ctx, "diagram", opt.source.file);
+        diagram = tools::extract_flat_model(opt.source.file, opt.diagram);
+        if (!opt.diagram.open_loop) notes = tools::close_diagram_loop(*diagram, opt.diagram.tool);
+      }
+      for (const auto& line : notes) std::cerr << line << "\n";
       opt.source.file = diagram->flat_file().string();
       if (opt.diagram.init_fixed) opt.init_file = diagram->init_file().string();
       opt.from_diagram = true;

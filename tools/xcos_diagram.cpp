@@ -14,6 +14,7 @@
 
 #include "child_process.hpp"
 #include "common.hpp"
+#include "xcos_blocks.hpp"
 
 namespace fs = std::filesystem;
 
@@ -215,8 +216,8 @@ bool is_diagram_file(const std::string& path) {
   return ext == ".zcos" || ext == ".xcos";
 }
 
-ExtractedDiagram::ExtractedDiagram(fs::path work, fs::path flat, fs::path init)
-    : work_(std::move(work)), flat_(std::move(flat)), init_(std::move(init)) {}
+ExtractedDiagram::ExtractedDiagram(fs::path work, fs::path flat, fs::path init, fs::path blocks)
+    : work_(std::move(work)), flat_(std::move(flat)), init_(std::move(init)), blocks_(std::move(blocks)) {}
 
 ExtractedDiagram::~ExtractedDiagram() {
   std::error_code ignored;
@@ -243,7 +244,8 @@ std::unique_ptr<ExtractedDiagram> extract_flat_model(const std::string& diagram,
   run.argv = argv;
   run.environment = {{"MO_XCOS_WORK", work.path().string()},
                      {"MO_XCOS_DIAGRAM", copy},
-                     {"TMPDIR", (work.path() / "scilab-tmp").string()}};
+                     {"TMPDIR", (work.path() / "scilab-tmp").string()},
+                     {"MO_XCOS_MODE", options.blocks_only ? "blocks" : "flat"}};
   run.log_file = (work.path() / "scilab.log").string();
   run.done_file = (work.path() / "done").string();
   run.timeout_seconds = options.timeout_seconds;
@@ -253,6 +255,12 @@ std::unique_ptr<ExtractedDiagram> extract_flat_model(const std::string& diagram,
   for (int retry = 0; retry < 2 && !fs::exists(work.path() / "status.txt") && xvfb_failed(run.log_file); ++retry)
     result = run_child(run);
   check_outcome(diagram, work.path(), result, options);
+  fs::path blocks = work.path() / "out" / "blocks.txt";
+  if (!fs::exists(blocks)) blocks.clear();
+  if (options.blocks_only) {
+    if (blocks.empty()) fail(diagram, "Scilab reported success but did not list the diagram's blocks");
+    return std::make_unique<ExtractedDiagram>(work.release(), fs::path(), fs::path(), blocks);
+  }
   fs::path flat = file_ending(work.path() / "out", "_imf.mo");
   fs::path init = file_ending(work.path() / "out", "_imf_init.xml");
   if (flat.empty()) fail(diagram, "Scilab reported success but wrote no flat model (*_imf.mo)");
@@ -261,7 +269,42 @@ std::unique_ptr<ExtractedDiagram> extract_flat_model(const std::string& diagram,
     flat = fs::path(options.save_dir) / flat.filename();
     if (!init.empty()) init = fs::path(options.save_dir) / init.filename();
   }
-  return std::make_unique<ExtractedDiagram>(work.release(), flat, init);
+  return std::make_unique<ExtractedDiagram>(work.release(), flat, init, blocks);
+}
+
+std::vector<std::string> close_diagram_loop(ExtractedDiagram& diagram, const std::string& tool) {
+  if (diagram.blocks_file().empty()) return {};
+  XcosBlocks blocks;
+  try {
+    blocks = read_xcos_blocks(diagram.blocks_file());
+  } catch (const std::runtime_error& e) {
+    throw DiagramError(e.what());
+  }
+  std::ifstream in(diagram.flat_file(), std::ios::binary);
+  std::stringstream text;
+  text << in.rdbuf();
+  const ClosedLoop loop = close_xcos_loop(blocks, text.str());
+  std::vector<std::string> lines;
+  for (const auto& w : loop.warnings)
+    lines.push_back(tool + ": warning: " + w + " (drive it with morun --input NAME=SPEC)");
+  if (loop.closed.empty()) return lines;
+  std::string closed;
+  try {
+    closed = with_closed_loop(text.str(), loop);
+  } catch (const std::runtime_error& e) {
+    lines.push_back(tool + ": warning: the diagram's blocks are not joined to its flat model: " + e.what() +
+                    "; its inputs stay open (drive them with morun --input NAME=SPEC)");
+    return lines;
+  }
+  fs::path file = diagram.flat_file();
+  file.replace_filename(file.stem().string() + "_closed.mo");
+  write_text(file, closed);
+  diagram.set_flat_file(file);
+  lines.insert(lines.begin(), fmt::format("{}: note: the diagram's non-Modelica blocks {} drive {} input{} of the "
+                                          "Modelica part: translated to Modelica (docs/xcos-dialect.md)",
+                                          tool, joined(loop.translated, 0), loop.closed.size(),
+                                          loop.closed.size() == 1 ? "" : "s"));
+  return lines;
 }
 
 std::string diagram_inputs_note(const frontend::flat::Model& model, const std::string& tool) {

@@ -34,6 +34,88 @@ function ok = modelicac(varargin)
     ok = %f;
 endfunction
 
+// The diagram's regular (non-Modelica) blocks and their links, as the
+// compiler sees them once the Modelica blocks are gathered into one block
+// (c_pass1): written to out/blocks.txt for mocompile, which translates the
+// blocks it knows into Modelica (tools/xcos_blocks.hpp has the format).
+// Called by build_modelica_block below, so the variables of c_pass1 (nr,
+// blklst, corinv, cmat, ccmat) are those of its caller. Numbers only, and
+// names checked to be plain identifiers.
+function mo_write_numbers(fd, tag, v)
+    if type(v) <> 1 | ~isreal(v) then
+        mfprintf(fd, "%s -1\n", tag);
+        return;
+    end
+    v = v(:);
+    mfprintf(fd, "%s %d", tag, size(v, "*"));
+    for i = 1:size(v, "*")
+        mfprintf(fd, " %.17g", v(i));
+    end
+    mfprintf(fd, "\n");
+endfunction
+
+function n = mo_plain_name(n)
+    if type(n) <> 10 then
+        n = "?";
+    elseif size(n, "*") <> 1 then
+        n = "?";
+    elseif isempty(regexp(n, "/^[A-Za-z_][A-Za-z0-9_]*$/")) then
+        n = "?";
+    end
+endfunction
+
+function mo_dump_blocks(file, nreg, blocks, paths, links, events, diagram, nin, nout)
+    fd = mopen(file, "wt");
+    mfprintf(fd, "mo-xcos-blocks 1\nmodelica %d %d %d\n", nreg + 1, nin, nout);
+    for k = 1:nreg
+        b = blocks(k);
+        o = diagram(scs_full_path(paths(k)));
+        s = b.sim;
+        if type(s) == 15 then
+            s = s(1);
+        end
+        mfprintf(fd, "block %d %s %s\n", k, mo_plain_name(o.gui), mo_plain_name(s));
+        mo_write_numbers(fd, "in", b.in);
+        mo_write_numbers(fd, "out", b.out);
+        mo_write_numbers(fd, "evtin", size(b.evtin, "*"));
+        mo_write_numbers(fd, "nzcross", b.nzcross);
+        mo_write_numbers(fd, "nmode", b.nmode);
+        mo_write_numbers(fd, "rpar", b.rpar);
+        mo_write_numbers(fd, "ipar", b.ipar);
+        if type(b.opar) == 15 & size(b.opar) == 1 then
+            mo_write_numbers(fd, "opar", b.opar(1));
+        else
+            mfprintf(fd, "opar -1\n");
+        end
+        mo_write_numbers(fd, "firing", b.firing);
+        mo_write_numbers(fd, "state", b.state);
+        mo_write_numbers(fd, "dstate", b.dstate);
+    end
+    for k = 1:size(links, 1)
+        mfprintf(fd, "link %d %d %d %d\n", links(k, 1), links(k, 2), links(k, 3), links(k, 4));
+    end
+    for k = 1:size(events, 1)
+        mfprintf(fd, "event %d %d %d %d\n", events(k, 1), events(k, 2), events(k, 3), events(k, 4));
+    end
+    mfprintf(fd, "end\n");
+    mclose(fd);
+endfunction
+
+mo_build_modelica_block = build_modelica_block;
+function [model, ok] = build_modelica_block(blklstm, corinvm, cmmat, NiM, NoM, NvM, scs_m, path)
+    try
+        mo_dump_blocks(getenv("MO_XCOS_WORK") + "/out/blocks.txt", nr, blklst, corinv, cmat, ccmat, scs_m, NiM, NoM);
+    catch
+        mprintf("mocompile: listing the diagram''s blocks failed: %s\n", lasterror());
+    end
+    if getenv("MO_XCOS_MODE", "") == "blocks" then
+        model = [];
+        ok = %f;
+        return;
+    end
+    [model, ok] = mo_build_modelica_block(blklstm, corinvm, cmmat, NiM, NoM, NvM, scs_m, path);
+endfunction
+
 function mo_finish(status)
     w = getenv("MO_XCOS_WORK");
     mputl(status, w + "/status.txt");
@@ -211,7 +293,30 @@ try
         end
     end
     missing = mo_missing(guis);
-    if missing <> [] then
+    if getenv("MO_XCOS_MODE", "") == "blocks" then
+        // Only the blocks and links (out/blocks.txt), as Xcos compiles the
+        // diagram (context, each block's parameters evaluated, first pass),
+        // stopped before the Modelica part is translated. A block whose
+        // interface function is missing (a Modelica block of a library that
+        // is not installed) keeps the model stored in the diagram: its
+        // stand-in returns the block unchanged.
+        for k = 1:size(missing, "*")
+            if mo_plain(missing(k)) & isempty(strindex(missing(k), ".")) then
+                deff("[x, y, typ] = " + missing(k) + "(job, arg1, arg2)", "x = arg1; y = []; typ = [];");
+            end
+        end
+        scs_m.props.title(1) = mo_safe_title(scs_m.props.title(1));
+        try
+            [cpr, ok] = xcos_compile(scs_m);
+        catch
+            mprintf("mocompile: xcos_compile stopped: %s\n", lasterror());
+        end
+        if isfile(mo_work + "/out/blocks.txt") then
+            status = "ok";
+        else
+            status = ["error"; "Scilab did not list the diagram''s blocks"];
+        end
+    elseif missing <> [] then
         status = ["missing-blocks"; missing];
     elseif models == [] then
         status = "no-modelica";

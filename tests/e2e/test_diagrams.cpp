@@ -17,6 +17,7 @@
 //     HOME, found once laid out as ATOMS installs it in SCIHOME/atoms.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <sstream>
@@ -112,7 +113,9 @@ TEST_CASE("mocompile SeriesRLC.zcos: Scilab's flat model, the drive as a named i
   REQUIRE_SCILAB();
   const fs::path dir = scratch("diagram-series-rlc-zcos");
   fs::create_directories(dir / "tmp");
-  const Run r = run_tool(kMocompile, {(kData / "SeriesRLC.zcos").string(), "--save-flat", (dir / "flat").string()},
+  // --open-loop: the CONST_m that drives the circuit stays out, its input free.
+  const Run r = run_tool(kMocompile, {(kData / "SeriesRLC.zcos").string(), "--open-loop", "--save-flat",
+                                      (dir / "flat").string()},
                          dir, {"TMPDIR=" + (dir / "tmp").string()});
   INFO(r.err);
   REQUIRE(r.status == 0);
@@ -129,13 +132,14 @@ TEST_CASE("morun SeriesRLC.xcos: the step response of the series RLC circuit", "
   const fs::path dir = scratch("diagram-series-rlc-xcos");
   const fs::path out = dir / "out";
   // First run without a signal: the note names the input, and morun warns that it is undriven.
-  const Run named = run_tool(kMorun, {(kData / "SeriesRLC.xcos").string(), "--stop-time", "0.01", "-o", out.string()}, dir);
+  const Run named = run_tool(
+      kMorun, {(kData / "SeriesRLC.xcos").string(), "--open-loop", "--stop-time", "0.01", "-o", out.string()}, dir);
   INFO(named.err);
   REQUIRE(named.status == 0);
   const auto inputs = noted_inputs(named.err);
   REQUIRE(inputs.size() == 1);
   CHECK(named.err.find("undriven input '" + inputs[0] + "'") != std::string::npos);
-  const Run r = run_tool(kMorun, {(kData / "SeriesRLC.xcos").string(), "--stop-time", "0.2", "--input",
+  const Run r = run_tool(kMorun, {(kData / "SeriesRLC.xcos").string(), "--open-loop", "--stop-time", "0.2", "--input",
                                   inputs[0] + "=const:1", "-o", out.string()}, dir);
   INFO(r.err);
   REQUIRE(r.status == 0);
@@ -154,6 +158,56 @@ TEST_CASE("morun SeriesRLC.xcos: the step response of the series RLC circuit", "
   CHECK(worst < 1e-4);
   const std::string summary = slurp(out / "summary.json");
   CHECK(summary.find("\"diagram\"") != std::string::npos);  // timings_seconds has the Scilab phase
+}
+
+TEST_CASE("morun SeriesRLC.zcos: its constant block closes the loop; the step response without --input",
+          "[diagram][scilab]") {
+  REQUIRE_SCILAB();
+  const fs::path dir = scratch("diagram-series-rlc-closed");
+  const Run r = run_tool(kMorun, {(kData / "SeriesRLC.zcos").string(), "--stop-time", "0.2", "-o",
+                                  (dir / "out").string()}, dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.err.find("morun: note: the diagram's non-Modelica blocks CONST_m (block 1) drive 1 input of the Modelica "
+                   "part") != std::string::npos);
+  CHECK(r.err.find("undriven") == std::string::npos);
+  CHECK(noted_inputs(r.err).empty());
+  const auto [times, v] = csv_column(dir / "out" / "result.csv", "Capacitor1.v");
+  REQUIRE(v.size() == 501);
+  const double a = 50.0, w = std::sqrt(1e4 - a * a);
+  double worst = 0.0;
+  for (std::size_t k = 0; k < v.size(); ++k)
+    worst = std::max(worst, std::abs(v[k] - (1.0 - std::exp(-a * times[k]) * (std::cos(w * times[k]) +
+                                                                                a / w * std::sin(w * times[k])))));
+  CHECK(worst < 1e-4);
+}
+
+// BlockLoop (make_block_loop.sce): a Modelica plant in a loop of 14 standard
+// blocks (set point CURV_f + |GENSIN_f|, SUMMATION, HYSTHERESIS, GAINBLK,
+// CONST_m, PRODUCT, RAMP, STEP_FUNCTION, BIGSOM_f, SATURATION; a TOWS_c on a
+// CLOCK_c that is ignored). BlockLoop_scilab.csv is Scilab's own simulation
+// (every 0.01 s, fresh runs from 0). The relay switches ~30 times; each
+// switch is an event located at its crossing.
+TEST_CASE("morun BlockLoop.zcos: the loop through the diagram's standard blocks matches Scilab", "[diagram][scilab]") {
+  REQUIRE_SCILAB();
+  const fs::path dir = scratch("diagram-block-loop");
+  const Run r = run_tool(kMorun, {(kData / "BlockLoop.zcos").string(), "--stop-time", "3", "--intervals", "300",
+                                  "--rtol", "1e-9", "--atol", "1e-12", "-o", (dir / "out").string()}, dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.err.find("HYSTHERESIS (block 6)") != std::string::npos);
+  CHECK(r.err.find("undriven") == std::string::npos);
+  const auto [times, y] = csv_column(dir / "out" / "result.csv", "Plant1.y");
+  const auto [ref_times, ref_y] = csv_column(kData / "BlockLoop_scilab.csv", "y");
+  REQUIRE(y.size() == 301);
+  REQUIRE(ref_y.size() == 300);
+  const auto [lo, hi] = std::minmax_element(ref_y.begin(), ref_y.end());
+  double worst = 0.0;
+  for (std::size_t k = 0; k < ref_y.size(); ++k) {
+    REQUIRE(times[k + 1] == Approx(ref_times[k]).margin(1e-12));
+    worst = std::max(worst, std::abs(y[k + 1] - ref_y[k]) / (*hi - *lo));
+  }
+  CHECK(worst < 1e-3);
 }
 
 TEST_CASE("Scilab demo SCI_RLC_Modelica: flat model equals the corpus's", "[diagram][scilab][corpus]") {
@@ -233,7 +287,7 @@ TEST_CASE("a diagram title with shell syntax is reduced to a plain name", "[diag
               "title=\"x&quot;; touch pwned; echo &quot;$(touch " + marker.string() + ")\"");
   const fs::path diagram = dir / "Hostile.xcos";
   std::ofstream(diagram) << xml;
-  const Run r = run_tool(kMocompile, {diagram.string(), "--save-flat", (dir / "flat").string()}, dir);
+  const Run r = run_tool(kMocompile, {diagram.string(), "--open-loop", "--save-flat", (dir / "flat").string()}, dir);
   INFO(r.err);
   CHECK(r.status == 0);
   CHECK(!fs::exists(marker));

@@ -5,12 +5,32 @@
 #include <catch2/catch.hpp>
 
 #include <cstdlib>
+#include <filesystem>
 #include <set>
 #include <string>
 
 #include "xcos_corpus.hpp"
 
 using namespace mo::xcos_corpus;
+
+namespace {
+
+/// Scilab (MO_SCILAB or on PATH) and xvfb-run: the corpus check can list a diagram's blocks.
+bool scilab_available() {
+  auto on_path = [](const std::string& name) {
+    const char* path = std::getenv("PATH");
+    for (std::string p = path ? path : ""; !p.empty();) {
+      const auto colon = p.find(':');
+      if (std::filesystem::exists(std::filesystem::path(p.substr(0, colon)) / name)) return true;
+      p = colon == std::string::npos ? "" : p.substr(colon + 1);
+    }
+    return false;
+  };
+  const char* given = std::getenv("MO_SCILAB");
+  return (given && *given ? std::filesystem::exists(given) : on_path("scilab")) && on_path("xvfb-run");
+}
+
+}  // namespace
 
 TEST_CASE("every Xcos corpus diagram matches Scilab", "[xcos][corpus]") {
   const auto corpus = corpus_dir(MO_SOURCE_DIR);
@@ -22,8 +42,14 @@ TEST_CASE("every Xcos corpus diagram matches Scilab", "[xcos][corpus]") {
   const Libraries libs{*corpus + "/../third_party/coselica/Coselica.mo", MO_SCILAB_MACROS};
   // Known failures, each explained in docs/xcos-dialect.md ("Why the others
   // fail"). A listed diagram that starts passing fails this test too, so the
-  // list only shrinks.
-  const std::set<std::string> known_failures{"ControlledTemperature"};
+  // list only shrinks. ControlledTemperature passes closed through its
+  // non-Modelica blocks, which needs Scilab to list them; without Scilab its
+  // relay is driven from the recording, which cannot resolve its pulses.
+  std::set<std::string> known_failures;
+  if (!scilab_available()) {
+    WARN("Scilab or xvfb-run is not installed: ControlledTemperature runs open-loop (a known failure)");
+    known_failures.insert("ControlledTemperature");
+  }
   for (const auto& name : diagrams(*corpus)) {
     const DiagramResult r = check_diagram(*corpus, name, libs);
     INFO(table_row(r));
