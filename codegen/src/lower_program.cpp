@@ -460,9 +460,11 @@ private:
     hessian_code(pairs(s2.f_rows), f_slots, p_.hessians[0]);
     hessian_code(pairs(s2.h_rows), h_slots, p_.hessians[1]);
     p_.hessians[0].base_sections = {p_.steps};
-    p_.hessians[0].product_sections = {jvp_steps, hess_steps};
+    p_.hessians[0].sigma_sections = {jvp_steps};
+    p_.hessians[0].product_sections = {hess_steps};
     p_.hessians[1].base_sections = {p_.steps};
-    p_.hessians[1].product_sections = {jvp_steps, jvp_outputs, hess_steps, hess_outputs};
+    p_.hessians[1].sigma_sections = {jvp_steps, jvp_outputs};
+    p_.hessians[1].product_sections = {hess_steps, hess_outputs};
   }
 
   /// Pattern (lower triangle), colouring and products from each row's pairs.
