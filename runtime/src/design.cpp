@@ -65,20 +65,6 @@ std::function<Eigen::MatrixXd(std::span<const double>)> add_lifted_criterion(
   return [&nlp, &f](std::span<const double> v) { return f.trajectory_fisher(nlp, v); };
 }
 
-// T on the trajectory with its exact Hessian (design_fisher_nlp.hpp): no F
-// variables or rows (docs/design-formulation.md, "T without lifting").
-std::function<Eigen::MatrixXd(std::span<const double>)> add_trace_criterion(
-    detail::CollocationNlp& nlp, const InputDesignProblem& problem,
-    std::vector<std::vector<std::size_t>> sensitivity_outputs) {
-  auto trace = std::make_unique<detail::FisherTrace>(nlp, problem.measurements,
-                                                     std::move(sensitivity_outputs));
-  const detail::FisherTrace& t = *trace;
-  const Eigen::MatrixXd f0 = t.fisher(nlp, nlp.initial_guess());
-  nlp.set_objective_scaling(1.0 / std::max(1.0, f0.cwiseAbs().maxCoeff()));  // as the lifted T
-  nlp.add_objective(std::move(trace));
-  return [&nlp, &t](std::span<const double> v) { return t.fisher(nlp, v); };
-}
-
 InputDesignResult design_once(const Model& model, const InputDesignProblem& problem) {
   auto start = std::chrono::steady_clock::now();
   InputDesignResult out;
@@ -88,10 +74,8 @@ InputDesignResult design_once(const Model& model, const InputDesignProblem& prob
   auto outputs = detail::sensitivity_outputs(model.info(), problem.measurements, problem.parameters);
   const bool lifted = outputs && ocp.solver.hessian != HessianMode::limited_memory &&
                       model.provides_hessian(Hessian::f) && model.provides_hessian(Hessian::h);
-  const bool trace = lifted && problem.criterion == DesignCriterion::T && !std::getenv("MO_LIFT_T");
-  auto fisher = trace    ? add_trace_criterion(nlp, problem, std::move(*outputs))
-                : lifted ? add_lifted_criterion(nlp, problem, std::move(*outputs))
-                         : add_trajectory_criterion(nlp, problem);
+  auto fisher = lifted ? add_lifted_criterion(nlp, problem, std::move(*outputs))
+                       : add_trajectory_criterion(nlp, problem);
   double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   const bool exact = ocp.solver.hessian != HessianMode::limited_memory && nlp.exact_hessian_possible();
   // MUMPS's own scaling misjudges the inertia of the design's KKT matrices

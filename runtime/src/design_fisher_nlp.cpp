@@ -127,35 +127,6 @@ void LiftedFisher::hessian(CollocationNlp& nlp, std::span<const double> v,
   samples_.add_hessian(nlp, v, big_lambda, -1.0, hess);
 }
 
-// --- T on the trajectory ----------------------------------------------------------------
-
-FisherTrace::FisherTrace(const CollocationNlp& nlp, const MeasurementDesign& m,
-                         std::vector<std::vector<std::size_t>> sensitivity_outputs)
-    : samples_(nlp, m, std::move(sensitivity_outputs)) {
-  std::vector<std::pair<int, int>> diagonal;  // tr F = Σ_a F_aa
-  for (int a = 0; a < samples_.size(); ++a) diagonal.emplace_back(a, a);
-  samples_.set_pattern(diagonal);
-}
-
-double FisherTrace::value(CollocationNlp& nlp, std::span<const double> v) {
-  return -samples_.fisher(nlp, v).trace();
-}
-
-void FisherTrace::gradient(CollocationNlp& nlp, std::span<const double> v, std::span<double> g) {
-  const int n = samples_.size();
-  samples_.add_gradient(nlp, v, Eigen::MatrixXd::Identity(n, n), -1.0, g);
-}
-
-bool FisherTrace::has_hessian(const CollocationNlp& nlp) const {
-  return nlp.model(0).provides_hessian(Hessian::h);
-}
-
-void FisherTrace::hessian(CollocationNlp& nlp, std::span<const double> v, double factor,
-                          SparseAssembler& hess) {
-  const int n = samples_.size();
-  samples_.add_hessian(nlp, v, Eigen::MatrixXd::Identity(n, n), -factor, hess);
-}
-
 // --- A, T, D on the F variables ------------------------------------------------------
 
 double FisherVariableCriterion::value(CollocationNlp&, std::span<const double> v) {

@@ -63,27 +63,6 @@ private:
   double magnitude_ = 1.0;
 };
 
-/// T on the trajectory, not lifted: minimises −tr F(v) = −Σ_k Σ_r w_r s_rᵀ s_r,
-/// with the exact Hessian (block-diagonal per sample; no F variables or rows).
-class FisherTrace final : public ObjectiveTerm {
-public:
-  /// Throws ProblemError on a bad design.
-  FisherTrace(const CollocationNlp& nlp, const MeasurementDesign& m,
-              std::vector<std::vector<std::size_t>> sensitivity_outputs);
-  double value(CollocationNlp& nlp, std::span<const double> v) override;
-  void gradient(CollocationNlp& nlp, std::span<const double> v, std::span<double> g) override;
-  [[nodiscard]] bool has_hessian(const CollocationNlp& nlp) const override;
-  void hessian(CollocationNlp& nlp, std::span<const double> v, double factor,
-               SparseAssembler& hess) override;
-  /// F of the trajectory at v.
-  [[nodiscard]] Eigen::MatrixXd fisher(CollocationNlp& nlp, std::span<const double> v) const {
-    return samples_.fisher(nlp, v);
-  }
-
-private:
-  FisherSamples samples_;
-};
-
 /// A, T or D as an objective on the F variables, with its exact dense Hessian.
 class FisherVariableCriterion final : public ObjectiveTerm {
 public:

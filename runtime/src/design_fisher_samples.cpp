@@ -114,21 +114,6 @@ Eigen::VectorXd FisherSamples::product_gradient(const Eigen::MatrixXd& s, const 
   return d;
 }
 
-void FisherSamples::add_gradient(CollocationNlp& nlp, std::span<const double> v,
-                                 const Eigen::MatrixXd& g, double scale, std::span<double> grad) const {
-  const Eigen::Index nz = Eigen::Index(nlp.info().states.size() + nlp.info().inputs.size() +
-                                       nlp.info().parameters.size());
-  each_sample(nlp, v, [&](const PointRef& pt, const Eigen::MatrixXd& s, const Eigen::MatrixXd& j) {
-    Eigen::VectorXd grad_z = Eigen::VectorXd::Zero(nz);
-    for (std::size_t r = 0; r < sens_.size(); ++r) {
-      Eigen::VectorXd gs = g * s.row(Eigen::Index(r)).transpose();
-      Eigen::VectorXd d = 2.0 * scale * weight_[r] * sensitivity_jacobian(j, r).transpose() * gs;
-      for (std::size_t c = 0; c < deps_.size(); ++c) grad_z[deps_[c]] += d[Eigen::Index(c)];
-    }
-    add_mapped_gradient(nlp, pt, grad_z, grad);
-  });
-}
-
 void FisherSamples::add_hessian(CollocationNlp& nlp, std::span<const double> v, const Eigen::MatrixXd& g,
                                 double scale, SparseAssembler& hess) const {
   const auto nd = Eigen::Index(deps_.size());

@@ -40,9 +40,6 @@ public:
   /// ∂/∂z (Σ_r w_r s_ra s_rb) at one sample, over `cols` = columns(a, b).
   [[nodiscard]] Eigen::VectorXd product_gradient(const Eigen::MatrixXd& s, const Eigen::MatrixXd& j,
                                                  int a, int b, const std::vector<int>& cols) const;
-  /// Adds scale·∇_v Q_G.
-  void add_gradient(CollocationNlp& nlp, std::span<const double> v, const Eigen::MatrixXd& g,
-                    double scale, std::span<double> grad) const;
   /// The Gauss–Newton positions (c, d) in deps (c ≥ d) that Q_G can couple
   /// when G's pattern is `coupled` (pairs (a, b), a ≥ b, of parameters).
   void set_pattern(const std::vector<std::pair<int, int>>& coupled);
