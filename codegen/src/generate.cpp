@@ -208,16 +208,18 @@ std::string hessian_tables(const Program& p) {
     ints("entry_weight", weight);
     out += slot_array(n + "_entry_slot", slot);
     ints("entry_index", index);
-    std::vector<std::string> base, product;
+    std::vector<std::string> base, sigma_sections, product;
     for (int s : h.base_sections) base.push_back(fmt::format("section_{}", s));
+    for (int s : h.sigma_sections) sigma_sections.push_back(fmt::format("section_{}", s));
     for (int s : h.product_sections) product.push_back(fmt::format("section_{}", s));
     out += array("SectionFunction", n + "_base", base, [](const std::string& s) { return s; });
+    out += array("SectionFunction", n + "_sigma_sections", sigma_sections, [](const std::string& s) { return s; });
     out += array("SectionFunction", n + "_product", product, [](const std::string& s) { return s; });
     list += fmt::format(
         "  {{{1}, {0}_col_start, {0}_row_index, {0}_colour_start, {0}_colour_columns, {2}, {0}_sigma, "
         "{0}_tau, {0}_entry_start, {0}_entry_weight, {0}_entry_slot, {0}_entry_index, {0}_base, {3}, "
-        "{0}_product, {4}}},\n",
-        n, h.n, h.products.size(), base.size(), product.size());
+        "{0}_sigma_sections, {5}, {0}_product, {4}}},\n",
+        n, h.n, h.products.size(), base.size(), product.size(), sigma_sections.size());
   }
   return out + list + "};\n\n";
 }
@@ -408,6 +410,8 @@ struct HessianTables {
   const int* entry_index;
   const SectionFunction* base;
   std::size_t num_base;
+  const SectionFunction* sigma_sections;
+  std::size_t num_sigma;
   const SectionFunction* product;
   std::size_t num_product;
 };

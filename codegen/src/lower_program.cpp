@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "derivatives.hpp"
+#include "hessian_pattern.hpp"
 #include "mo/codegen/program.hpp"
 #include "mo/symbolic/evaluator.hpp"
 #include "mo/symbolic/ode_interpreter.hpp"
@@ -449,39 +450,42 @@ private:
     new_section("hessian_outputs", hess_outputs);
     auto bo = builder(both);
     const std::vector<Slot> h_slots = row_slots(bo, hess_outputs, s2.h_rows);
-    // Columns each second-order row depends on through σ and through τ; a
-    // nonzero T_i(a, b) = T_i(b, a) needs a and b in both sets.
-    const std::vector<const std::vector<symbolic::Step>*> sigma_steps{&d.directional.steps,
-                                                                       &s2.directional.steps};
-    const std::vector<const std::vector<symbolic::Step>*> tau_steps{&s2.directional.steps};
-    auto columns = [&](const std::vector<Expr>& rows) {
-      auto sigma = detail::seed_columns(arena(), d.seeds, sigma_steps, rows);
-      const auto tau = detail::seed_columns(arena(), s2.seeds, tau_steps, rows);
-      for (std::size_t i = 0; i < rows.size(); ++i) {
-        std::vector<int> both_sets;
-        std::set_intersection(sigma[i].begin(), sigma[i].end(), tau[i].begin(), tau[i].end(),
-                              std::back_inserter(both_sets));
-        sigma[i] = std::move(both_sets);
-      }
-      return sigma;
+    // The structurally nonzero T_i(a, b) of each row, from the graph of the
+    // second directional derivatives (hessian_pattern.hpp).
+    const std::vector<const std::vector<symbolic::Step>*> steps{&d.directional.steps,
+                                                                 &s2.directional.steps};
+    auto pairs = [&](const std::vector<Expr>& rows) {
+      return detail::second_order_pairs(arena(), d.seeds, s2.seeds, steps, rows);
     };
-    hessian_code(columns(s2.f_rows), f_slots, p_.hessians[0]);
-    hessian_code(columns(s2.h_rows), h_slots, p_.hessians[1]);
+    hessian_code(pairs(s2.f_rows), f_slots, p_.hessians[0]);
+    hessian_code(pairs(s2.h_rows), h_slots, p_.hessians[1]);
     p_.hessians[0].base_sections = {p_.steps};
-    p_.hessians[0].product_sections = {jvp_steps, hess_steps};
+    p_.hessians[0].sigma_sections = {jvp_steps};
+    p_.hessians[0].product_sections = {hess_steps};
     p_.hessians[1].base_sections = {p_.steps};
-    p_.hessians[1].product_sections = {jvp_steps, jvp_outputs, hess_steps, hess_outputs};
+    p_.hessians[1].sigma_sections = {jvp_steps, jvp_outputs};
+    p_.hessians[1].product_sections = {hess_steps, hess_outputs};
   }
 
-  void hessian_code(const std::vector<std::vector<int>>& rows, const std::vector<Slot>& slots,
-                    HessianCode& code) {
+  /// Pattern (lower triangle), colouring and products from each row's pairs.
+  /// Columns of a row that take part in one of its pairs get distinct
+  /// colours, so that product (A, B) holds T_i(a, b) for the row's a of colour
+  /// A and b of colour B alone; a product is kept if some row has that pair.
+  void hessian_code(const std::vector<std::vector<std::pair<int, int>>>& pairs,
+                    const std::vector<Slot>& slots, HessianCode& code) {
     const int n = static_cast<int>(d_size());
     code.n = n;
     std::vector<std::vector<int>> col_rows(static_cast<std::size_t>(n));  // lower triangle
-    for (const auto& cs : rows)
-      for (std::size_t x = 0; x < cs.size(); ++x)
-        for (std::size_t y = x; y < cs.size(); ++y)  // cs ascending: cs[y] >= cs[x]
-          col_rows[static_cast<std::size_t>(cs[x])].push_back(cs[y]);
+    std::vector<std::vector<int>> rows(pairs.size());  // columns of each row's pairs
+    for (std::size_t i = 0; i < pairs.size(); ++i) {
+      for (auto [r, c] : pairs[i]) {
+        col_rows[static_cast<std::size_t>(c)].push_back(r);
+        rows[i].push_back(r);
+        rows[i].push_back(c);
+      }
+      std::sort(rows[i].begin(), rows[i].end());
+      rows[i].erase(std::unique(rows[i].begin(), rows[i].end()), rows[i].end());
+    }
     code.col_start.assign(1, 0);
     code.row_index.clear();
     for (auto& rs : col_rows) {
@@ -497,7 +501,6 @@ private:
       if (it == last || *it != r) throw std::logic_error("internal error: Hessian entry outside its pattern");
       return static_cast<int>(it - code.row_index.begin());
     };
-    // A colouring in which a row's second-order columns have distinct colours.
     JacobianCode colouring;
     detail::pattern_and_colouring(rows, 0, n, colouring);
     code.colours = colouring.colours;
@@ -505,21 +508,18 @@ private:
     for (std::size_t k = 0; k < code.colours.size(); ++k)
       for (int c : code.colours[k]) colour[static_cast<std::size_t>(c)] = static_cast<int>(k);
     const int nc = static_cast<int>(code.colours.size());
+    std::vector<std::vector<HessianCode::Entry>> by_product(static_cast<std::size_t>(nc * nc));
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      for (auto [r, c] : pairs[i]) {
+        const int A = std::min(colour[static_cast<std::size_t>(r)], colour[static_cast<std::size_t>(c)]);
+        const int B = std::max(colour[static_cast<std::size_t>(r)], colour[static_cast<std::size_t>(c)]);
+        by_product[static_cast<std::size_t>(A * nc + B)].push_back({static_cast<int>(i), slots[i], find(r, c)});
+      }
     code.products.clear();
     for (int A = 0; A < nc; ++A)
-      for (int B = A; B < nc; ++B) {
-        HessianCode::Product pr{A, B, {}};
-        for (std::size_t i = 0; i < rows.size(); ++i) {
-          int a = -1, bcol = -1;
-          for (int c : rows[i]) {
-            if (colour[static_cast<std::size_t>(c)] == A) a = c;
-            if (colour[static_cast<std::size_t>(c)] == B) bcol = c;
-          }
-          if (a < 0 || bcol < 0) continue;
-          pr.entries.push_back({static_cast<int>(i), slots[i], find(std::max(a, bcol), std::min(a, bcol))});
-        }
-        if (!pr.entries.empty()) code.products.push_back(std::move(pr));
-      }
+      for (int B = A; B < nc; ++B)
+        if (auto& entries = by_product[static_cast<std::size_t>(A * nc + B)]; !entries.empty())
+          code.products.push_back({A, B, std::move(entries)});
   }
 
   std::size_t d_size() const {

@@ -121,16 +121,22 @@ public:
       for (int c = h.colour_start[colour]; c < h.colour_start[colour + 1]; ++c)
         w[first + static_cast<std::size_t>(h.colour_columns[c])] = value;
     };
+    int sigma = -1;  // products come by σ colour: the σ sections run once per colour
     for (std::size_t q = 0; q < h.products; ++q) {
-      seed(sigma_slot, h.sigma[q], 1.0);
+      if (h.sigma[q] != sigma) {
+        if (sigma >= 0) seed(sigma_slot, sigma, 0.0);
+        sigma = h.sigma[q];
+        seed(sigma_slot, sigma, 1.0);
+        for (std::size_t k = 0; k < h.num_sigma; ++k) h.sigma_sections[k](w, nullptr, ws_);
+      }
       seed(tau_slot, h.tau[q], 1.0);
       for (std::size_t k = 0; k < h.num_product; ++k) h.product[k](w, nullptr, ws_);
       for (int e = h.entry_start[q]; e < h.entry_start[q + 1]; ++e)
         values[static_cast<std::size_t>(h.entry_index[e])] +=
             weights[static_cast<std::size_t>(h.entry_weight[e])] * w[h.entry_slot[e]];
-      seed(sigma_slot, h.sigma[q], 0.0);
       seed(tau_slot, h.tau[q], 0.0);
     }
+    if (sigma >= 0) seed(sigma_slot, sigma, 0.0);
   }
 
   void event_indicators(double t, std::span<const double> x, std::span<const double> u,

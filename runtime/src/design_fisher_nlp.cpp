@@ -27,47 +27,19 @@ std::pair<int, int> unpack(int k) {
 
 }  // namespace
 
-std::optional<std::vector<std::vector<std::size_t>>> sensitivity_outputs(
-    const ModelInfo& info, const MeasurementDesign& m, const std::vector<std::size_t>& parameters) {
-  std::vector<std::vector<std::size_t>> out;
-  for (std::size_t y : m.outputs) {
-    if (y >= info.outputs.size()) return std::nullopt;
-    out.emplace_back();
-    for (std::size_t a : parameters) {
-      if (a >= info.parameters.size()) return std::nullopt;
-      // The compiler's name for ∂y/∂p (symbolic::sensitivity_name).
-      auto k = info.output_index("d(" + info.outputs[y].name + ")/d(" + info.parameters[a].name + ")");
-      if (!k) return std::nullopt;
-      out.back().push_back(*k);
-    }
-  }
-  return out;
-}
-
 // --- the lifted rows -------------------------------------------------------------
 
 LiftedFisher::LiftedFisher(CollocationNlp& nlp, const MeasurementDesign& m,
                            std::vector<std::vector<std::size_t>> sensitivity_outputs,
                            bool positive_start)
-    : sens_(std::move(sensitivity_outputs)) {
-  if (sens_.empty() || sens_.front().empty())
-    throw ProblemError("input design needs measured outputs and parameters");
-  n_ = int(sens_.front().size());
-  for (double s : m.sigma) {
-    if (!(s > 0.0)) throw ProblemError("measured output sigma not positive");
-    weight_.push_back(1.0 / (s * s));
-  }
-  const ExperimentSetup& ex = nlp.experiment(0);
-  for (double t : m.times) {
-    if (t < ex.t0 || t > ex.tf) throw ProblemError("measurement time outside [t0, tf]");
-    points_.push_back(nlp.point_at(0, t));
-  }
-  std::set<int> deps;
-  for (const auto& row : sens_)
-    for (std::size_t out : row)
-      for (int z : output_dependencies(nlp.model(0), out)) deps.insert(z);
-  deps_.assign(deps.begin(), deps.end());
-  record_patterns(nlp.model(0));
+    : samples_(nlp, m, std::move(sensitivity_outputs)), n_(samples_.size()) {
+  std::vector<std::pair<int, int>> coupled;
+  for (int a = 0; a < n_; ++a)
+    for (int b = 0; b <= a; ++b) {
+      coupled.emplace_back(a, b);
+      row_columns_.push_back(samples_.columns(a, b));
+    }
+  samples_.set_pattern(coupled);
   Eigen::MatrixXd f0 = trajectory_fisher(nlp, nlp.initial_guess());
   magnitude_ = std::max(1.0, f0.cwiseAbs().maxCoeff());
   if (positive_start) {  // A and D need a positive definite F to be evaluated at all
@@ -88,34 +60,6 @@ LiftedFisher::LiftedFisher(CollocationNlp& nlp, const MeasurementDesign& m,
   for (int a = 0; a < n_; ++a)
     for (int b = 0; b <= a; ++b) guess[std::size_t(f_var(a, b))] = f0(a, b);
   nlp.set_initial_guess(std::move(guess));
-}
-
-void LiftedFisher::record_patterns(const Model& model) {
-  auto position = [&](int z) {
-    return int(std::lower_bound(deps_.begin(), deps_.end(), z) - deps_.begin());
-  };
-  // of[r][a]: positions in deps_ of output s_ra's dependencies
-  std::vector<std::vector<std::vector<int>>> of(sens_.size());
-  for (std::size_t r = 0; r < sens_.size(); ++r)
-    for (std::size_t out : sens_[r]) {
-      of[r].emplace_back();
-      for (int z : output_dependencies(model, out)) of[r].back().push_back(position(z));
-    }
-  std::set<std::pair<int, int>> pairs;
-  for (int a = 0; a < n_; ++a)
-    for (int b = 0; b <= a; ++b) {
-      std::set<int> row;
-      for (std::size_t r = 0; r < sens_.size(); ++r) {
-        const auto& da = of[r][std::size_t(a)];
-        const auto& db = of[r][std::size_t(b)];
-        row.insert(da.begin(), da.end());
-        row.insert(db.begin(), db.end());
-        for (int c : da)
-          for (int d : db) pairs.insert({std::max(c, d), std::min(c, d)});
-      }
-      row_deps_.emplace_back(row.begin(), row.end());
-    }
-  gn_pairs_.assign(pairs.begin(), pairs.end());
 }
 
 double LiftedFisher::nominal(int a, int b) const {
@@ -141,25 +85,6 @@ bool LiftedFisher::has_hessian(const CollocationNlp& nlp) const {
   return nlp.model(0).provides_hessian(Hessian::h);
 }
 
-Eigen::MatrixXd LiftedFisher::sensitivities(CollocationNlp& nlp, std::span<const double> v,
-                                            const PointRef& pt) const {
-  std::vector<double> y = nlp.outputs(v, pt);
-  Eigen::MatrixXd s(Eigen::Index(sens_.size()), n_);
-  for (std::size_t r = 0; r < sens_.size(); ++r)
-    for (int a = 0; a < n_; ++a) s(Eigen::Index(r), a) = y[sens_[r][std::size_t(a)]];
-  return s;
-}
-
-Eigen::MatrixXd LiftedFisher::trajectory_fisher(CollocationNlp& nlp, std::span<const double> v) const {
-  Eigen::Map<const Eigen::VectorXd> w(weight_.data(), Eigen::Index(weight_.size()));
-  Eigen::MatrixXd f = Eigen::MatrixXd::Zero(n_, n_);
-  for (const PointRef& pt : points_) {
-    Eigen::MatrixXd s = sensitivities(nlp, v, pt);
-    f += s.transpose() * w.asDiagonal() * s;
-  }
-  return f;
-}
-
 Eigen::MatrixXd LiftedFisher::fisher_variables(std::span<const double> v) const {
   Eigen::MatrixXd f(n_, n_);
   for (int a = 0; a < n_; ++a)
@@ -177,25 +102,20 @@ void LiftedFisher::values(CollocationNlp& nlp, std::span<const double> v, std::s
 void LiftedFisher::jacobian(CollocationNlp& nlp, std::span<const double> v, int row0,
                             SparseAssembler& jac) {
   for (int k = 0; k < rows(); ++k) jac.add(row0 + k, f_ + k, 1.0);
-  for (const PointRef& pt : points_) {
-    Eigen::MatrixXd s = sensitivities(nlp, v, pt);
-    Eigen::MatrixXd j = nlp.output_jacobian(v, pt);
+  samples_.each_sample(nlp, v, [&](const PointRef& pt, const Eigen::MatrixXd& s, const Eigen::MatrixXd& j) {
     VariableMap map = nlp.variable_map(pt);
     for (int a = 0; a < n_; ++a)
-      for (int b = 0; b <= a; ++b) {
+      for (int b = 0; b <= a; ++b) {  // ∂/∂z of −Σ_r w_r s_ra s_rb
         const int packed = a * (a + 1) / 2 + b, row = row0 + packed;
-        for (int c : row_deps_[std::size_t(packed)]) {  // ∂/∂z of −Σ_r w_r s_ra s_rb
-          const int z = deps_[std::size_t(c)];
-          double d = 0.0;
-          for (std::size_t r = 0; r < sens_.size(); ++r)
-            d -= weight_[r] * (s(Eigen::Index(r), a) * j(Eigen::Index(sens_[r][std::size_t(b)]), z) +
-                               s(Eigen::Index(r), b) * j(Eigen::Index(sens_[r][std::size_t(a)]), z));
-          for (auto [var, coeff] : map[std::size_t(z)]) jac.add(row, var, coeff * d);
-        }
+        const std::vector<int>& cols = row_columns_[std::size_t(packed)];
+        Eigen::VectorXd d = samples_.product_gradient(s, j, a, b, cols);
+        for (std::size_t c = 0; c < cols.size(); ++c)
+          for (auto [var, coeff] : map[std::size_t(cols[c])]) jac.add(row, var, -coeff * d[Eigen::Index(c)]);
       }
-  }
+  });
 }
 
+// ∇²Σ λ_ab g_ab = −∇² Σ_k Σ_r w_r s_rᵀ Λ s_r, Λ_aa = λ_aa, Λ_ab = Λ_ba = λ_ab/2.
 void LiftedFisher::hessian(CollocationNlp& nlp, std::span<const double> v,
                            std::span<const double> lambda, SparseAssembler& hess) {
   Eigen::MatrixXd big_lambda(n_, n_);
@@ -204,34 +124,7 @@ void LiftedFisher::hessian(CollocationNlp& nlp, std::span<const double> v,
       const double l = lambda[std::size_t(a * (a + 1) / 2 + b)];
       big_lambda(a, b) = big_lambda(b, a) = a == b ? l : 0.5 * l;
     }
-  const auto nd = Eigen::Index(deps_.size());
-  std::vector<double> mu(nlp.info().outputs.size());
-  for (const PointRef& pt : points_) {
-    Eigen::MatrixXd s = sensitivities(nlp, v, pt);
-    Eigen::MatrixXd j = nlp.output_jacobian(v, pt);
-    Eigen::MatrixXd gauss_newton = Eigen::MatrixXd::Zero(nd, nd);
-    std::fill(mu.begin(), mu.end(), 0.0);
-    for (std::size_t r = 0; r < sens_.size(); ++r) {
-      Eigen::MatrixXd jr(n_, nd);  // ∂s_r/∂z over the dependencies
-      for (int a = 0; a < n_; ++a)
-        for (Eigen::Index c = 0; c < nd; ++c)
-          jr(a, c) = j(Eigen::Index(sens_[r][std::size_t(a)]), deps_[std::size_t(c)]);
-      gauss_newton -= 2.0 * weight_[r] * jr.transpose() * big_lambda * jr;
-      Eigen::VectorXd m = big_lambda * s.row(Eigen::Index(r)).transpose();
-      for (int a = 0; a < n_; ++a) mu[sens_[r][std::size_t(a)]] -= 2.0 * weight_[r] * m[a];
-    }
-    VariableMap map = nlp.variable_map(pt);
-    auto add = [&](int a, int b) {  // both orders of the symmetric term, lower triangle
-      for (auto [va, ca] : map[std::size_t(deps_[std::size_t(a)])])
-        for (auto [vb, cb] : map[std::size_t(deps_[std::size_t(b)])])
-          if (va >= vb) hess.add(va, vb, gauss_newton(a, b) * ca * cb);
-    };
-    for (auto [a, b] : gn_pairs_) {
-      add(a, b);
-      if (a != b) add(b, a);
-    }
-    nlp.add_model_hessian(Hessian::h, v, pt, mu, 1.0, hess);
-  }
+  samples_.add_hessian(nlp, v, big_lambda, -1.0, hess);
 }
 
 // --- A, T, D on the F variables ------------------------------------------------------

@@ -17,14 +17,10 @@
 #pragma once
 
 #include "collocation_nlp.hpp"
+#include "design_fisher_samples.hpp"
 #include "mo/runtime/design.hpp"
 
 namespace mo::runtime::detail {
-
-/// The model outputs d(y_r)/d(p_a) for every measured output r and parameter a,
-/// indexed [r][a]; nullopt if the model lacks one of them.
-std::optional<std::vector<std::vector<std::size_t>>> sensitivity_outputs(
-    const ModelInfo& info, const MeasurementDesign& m, const std::vector<std::size_t>& parameters);
 
 /// The F variables and their defining rows F_ab − Σ w s_a s_b = 0 (experiment 0).
 class LiftedFisher final : public ConstraintBlock {
@@ -44,7 +40,9 @@ public:
   void scaling(std::span<double> s) const override;
 
   /// Σ_k Σ_r w_r s_r s_rᵀ at v (the trajectory's F, not the F variables).
-  [[nodiscard]] Eigen::MatrixXd trajectory_fisher(CollocationNlp& nlp, std::span<const double> v) const;
+  [[nodiscard]] Eigen::MatrixXd trajectory_fisher(CollocationNlp& nlp, std::span<const double> v) const {
+    return samples_.fisher(nlp, v);
+  }
   /// The F variables of v as a symmetric matrix.
   [[nodiscard]] Eigen::MatrixXd fisher_variables(std::span<const double> v) const;
   /// Variable of F_ab (either order).
@@ -56,22 +54,10 @@ public:
   [[nodiscard]] double nominal(int a, int b) const;
 
 private:
-  /// row_deps_ and gn_pairs_ from the outputs' dependencies.
-  void record_patterns(const Model& model);
-  /// s (measured outputs × parameters) at one sample.
-  Eigen::MatrixXd sensitivities(CollocationNlp& nlp, std::span<const double> v,
-                                const PointRef& pt) const;
-
-  std::vector<PointRef> points_;
-  std::vector<double> weight_;                   // 1/σ_r²
-  std::vector<std::vector<std::size_t>> sens_;   // [r][a] → output index
-  std::vector<int> deps_;                        // z-indices the s outputs depend on
-  // Per row (a, b), the positions in deps_ that s_ra or s_rb depend on for some
-  // r: the row's Jacobian pattern, without the other parameters' columns.
-  std::vector<std::vector<int>> row_deps_;
-  // (c, d) positions in deps_ (c ≥ d) coupled by some J_raᵀ J_rb: the
-  // Gauss–Newton term's pattern.
-  std::vector<std::pair<int, int>> gn_pairs_;
+  FisherSamples samples_;
+  // Per row (a, b), the z-indices that s_ra or s_rb depend on for some r: the
+  // row's Jacobian pattern, without the other parameters' columns.
+  std::vector<std::vector<int>> row_columns_;
   std::vector<double> nominal_;                  // per F variable (packed)
   int n_ = 0, f_ = 0;
   double magnitude_ = 1.0;

@@ -110,15 +110,26 @@ double step_to_bounds(const NonlinearBlock& b, const BlockWorkspace& ws) {
 
 bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws) {
   const auto n = static_cast<Size>(block.size);
-  prepare(ws, n);
+  ws.a.resize(n * n);
+  ws.b.resize(n);
   assemble(block.entries, block.num_entries, n, w, ws);
-  for (Size i = 0; i < n; ++i) ws.b[i] = -w[block.offsets[i]];
   const auto finite = [](double v) { return std::isfinite(v); };
-  if (!std::all_of(ws.a.begin(), ws.a.end(), finite) || !std::all_of(ws.b.begin(), ws.b.end(), finite))
+  for (Size i = 0; i < n; ++i) ws.b[i] = -w[block.offsets[i]];
+  if (ws.a != ws.factored) {  // NaN never compares equal: refactorised, then refused
+    ws.factored.clear();
+    if (!std::all_of(ws.a.begin(), ws.a.end(), finite))
+      return fail(block.description, block.unknowns, n, w, ws,
+                  "its coefficients are not finite (a value it uses is NaN or infinite)");
+    ws.lu = ws.a;
+    ws.lu_pivots.resize(n);
+    if (!lu_factor(ws.lu, ws.lu_pivots))
+      return fail(block.description, block.unknowns, n, w, ws, "the matrix is singular");
+    ws.factored = ws.a;
+  }
+  if (!std::all_of(ws.b.begin(), ws.b.end(), finite))
     return fail(block.description, block.unknowns, n, w, ws,
                 "its coefficients are not finite (a value it uses is NaN or infinite)");
-  if (!solve_dense(ws.a, ws.pivots, ws.b))
-    return fail(block.description, block.unknowns, n, w, ws, "the matrix is singular");
+  lu_solve(ws.lu, ws.lu_pivots, ws.b);
   for (Size i = 0; i < n; ++i) w[block.unknowns[i]] = ws.b[i];
   return true;
 }

@@ -105,8 +105,9 @@ struct HessianCode {
     int sigma_colour, tau_colour;  ///< colours seeded in σ and in τ
     std::vector<Entry> entries;
   };
-  std::vector<Product> products;     ///< one product run each
+  std::vector<Product> products;     ///< one product run each, by σ colour
   std::vector<int> base_sections;    ///< run once
+  std::vector<int> sigma_sections;   ///< run when σ's colour changes (they read σ only)
   std::vector<int> product_sections;  ///< run per product
 };
 

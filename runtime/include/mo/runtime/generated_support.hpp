@@ -79,12 +79,19 @@ struct BlockWorkspace {
   std::vector<double> a, b, z, dz;  ///< matrix and vectors, resized as needed
   std::vector<double> scale;        ///< Newton: per-equation scale of the residual
   std::vector<int> pivots;          ///< row swaps
+  /// Linear blocks: the last matrix factorised and its factors. A block whose
+  /// matrix equals it (the same values, e.g. the mass matrix of the model's
+  /// block again in each directional-derivative sweep at one point) reuses
+  /// the factors: one factorisation per point instead of one per solve.
+  std::vector<double> factored, lu;
+  std::vector<int> lu_pivots;
   double time = 0.0;                ///< model time of the current evaluation, for messages
   std::string failure;              ///< why the first failed block of this evaluation failed; empty if none
   NewtonOptions newton;             ///< settings
 };
 
-/// Solves the linear block; writes z into w[unknowns]. On a singular J, sets
+/// Solves the linear block; writes z into w[unknowns] (with the factors of
+/// ws.lu when J equals ws.factored, bit for bit). On a singular J, sets
 /// the unknowns to NaN, records the failure in ws.failure (unless an earlier
 /// block of the same evaluation failed first: that one is the cause), returns false.
 bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws);
