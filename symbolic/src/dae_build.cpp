@@ -457,7 +457,8 @@ bool Builder::discrete_initial_assignment(const ast::Equation& eq) {
 /// this equation fixes, as `fixed = true` fixes it to v.start (OpenModelica
 /// treats both alike). For a discrete v it sets the value pre(v) (and v
 /// until the event at initialisation) starts from, like a start value:
-/// evaluated at the parameters' values. A v that stays continuous has no
+/// evaluated at the parameters' values and t = 0 (MathBoolean.OnDelay's
+/// `pre(t_next) = time - 1`). A v that stays continuous has no
 /// pre() read anywhere (mark_event_equations), so there is nothing to fix and
 /// the equation is dropped. Returns false for other equations.
 bool Builder::initial_pre(const ast::Equation& eq) {
@@ -474,13 +475,18 @@ bool Builder::initial_pre(const ast::Equation& eq) {
   if (!d.valid())
     return v.type == flat::BaseType::Boolean || v.type == flat::BaseType::Integer ||
            v.variability == ast::Variability::Discrete;
-  const std::optional<double> x = value_of(conv_->convert(*value));
-  if (!x) {
+  LeafValues at_t0 = param_values_;  // the event at initialisation runs at t = 0
+  at_t0[dae_.time] = 0.0;
+  const Expr e = conv_->convert(*value);
+  double x = 0.0;
+  try {
+    x = evaluate(dae_.arena, std::span(&e, 1), at_t0)[0];
+  } catch (const std::invalid_argument&) {
     error(DiagId::UnsupportedInLowering, eq.range,
-          "pre(" + v.name + ") in an initial equation must equal an expression of parameters");
+          "pre(" + v.name + ") in an initial equation must equal an expression of parameters and time");
     return true;
   }
-  dae_.discrete[static_cast<std::size_t>(dae_.arena.symbol_info(d).index)].start = *x;
+  dae_.discrete[static_cast<std::size_t>(dae_.arena.symbol_info(d).index)].start = x;
   return true;
 }
 

@@ -1,6 +1,7 @@
 // sample(start, interval) time events, when-clauses on vectors of conditions
 // and `initial equation pre(y) = y_start` (issue 12, the MSL's Blocks.Sources,
 // MathInteger and Logical blocks), each against its exact solution.
+#include "e2e/cli.hpp"
 #include "e2e/support.hpp"
 #include "mo/runtime/simulate.hpp"
 
@@ -115,4 +116,14 @@ TEST_CASE("initial equation pre(y) = y_start fixes the value before initialisati
       CHECK(std::fabs(T[k] - triangle(grid.times[k], up)) < 1e-7);
     }
   }
+}
+
+TEST_CASE("a collocation study on a model with sample() is refused at the tick") {
+  const fs::path dir = scratch("sample_study");
+  const Run r = morun(quoted(kData + "SampleStudy.mop") + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("SampleStudy.mop:9:3: error: when sample(0.25, 0.5): the multi-phase collocation takes "
+                   "when-conditions that are one relation") != std::string::npos);
+  CHECK(!fs::exists(dir / "out" / "summary.json"));
 }
