@@ -90,9 +90,6 @@ public:
     for (auto& d : dae_.discrete) info_of_[d.symbol] = &d.info;
     for (auto& u : dae_.inputs) info_of_[u.symbol] = &u.info;
     for (std::size_t i = 0; i < f_.variables.size(); ++i) attributes(static_cast<int>(i));
-    // Discrete equations hold at initialisation too (Modelica 3 §8.6): the
-    // event at initialisation evaluates them from pre() = the start values.
-    if (!event_equations_.empty()) initial_flag();
     for (const ast::Equation& eq : f_.equations) equation(eq);
     initial_equations();
     outputs();
