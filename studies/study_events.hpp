@@ -9,8 +9,10 @@
 
 namespace mo::tools {
 
-/// True if `ode` has when-clauses or event indicators.
-inline bool has_events(const symbolic::OdeModel& ode) { return !ode.whens.empty() || !ode.zero_crossings.empty(); }
+/// True if `ode` has when-clauses, event indicators or sample() time events.
+inline bool has_events(const symbolic::OdeModel& ode) {
+  return !ode.whens.empty() || !ode.zero_crossings.empty() || !ode.samples.empty();
+}
 
 /// Where the model switches, for a diagnostic: the `when`-th when/elsewhen
 /// branch of `flat` (in the order lowering numbers OdeModel::whens) if given

@@ -268,6 +268,26 @@ std::string when_tables(const Program& p) {
   return out;
 }
 
+/// Tables of Program::samples (null arrays without sample()).
+std::string sample_tables(const Program& p) {
+  std::vector<int> flag, start, interval, param_start{0}, params;
+  for (const auto& smp : p.samples) {
+    flag.push_back(smp.flag);
+    start.push_back(static_cast<int>(smp.start));
+    interval.push_back(static_cast<int>(smp.interval));
+    params.insert(params.end(), smp.parameters.begin(), smp.parameters.end());
+    param_start.push_back(static_cast<int>(params.size()));
+  }
+  auto ints = [](const std::string& n, const std::vector<int>& v) {
+    return array("int", n, v, [](int x) { return std::to_string(x); });
+  };
+  return fmt::format("constexpr std::size_t nsample = {};\nconstexpr int samples_section = {};\n",
+                     p.samples.size(), p.samples_section) +
+         ints("sample_flag", flag) + ints("sample_start_slot", start) +
+         ints("sample_interval_slot", interval) + ints("sample_param_start", param_start) +
+         ints("sample_params", params);
+}
+
 /// Tables of Program::event_tangents (sections -1 and null arrays without events).
 std::string event_tangent_tables(const Program& p) {
   const EventTangentCode& e = p.event_tangents;
@@ -417,7 +437,7 @@ struct HessianTables {
 };
 
 )" + jacobian_tables(program) + hessian_tables(program) +
-          when_tables(program) + event_tangent_tables(program) + detail::model_class + fmt::format(R"(
+          when_tables(program) + sample_tables(program) + event_tangent_tables(program) + detail::model_class + fmt::format(R"(
 }}  // namespace
 
 std::unique_ptr<mo::runtime::Model> create() {{ return std::make_unique<GeneratedModel>(); }}

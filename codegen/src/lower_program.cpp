@@ -137,6 +137,7 @@ public:
     steps();
     outputs();
     starts();
+    samples();
     events();
     if (tangents_) event_tangents();
     jacobians();
@@ -251,6 +252,25 @@ private:
     } catch (const std::invalid_argument& e) {
       throw std::invalid_argument(std::string("code generation: a start value depends on "
                                               "something other than parameters: ") + e.what());
+    }
+  }
+
+  /// The start and interval of every sample() (over parameters only).
+  void samples() {
+    if (m_.samples.empty()) return;
+    new_section("samples", p_.samples_section);
+    auto b = builder({});
+    Section& s = p_.sections[static_cast<std::size_t>(p_.samples_section)];
+    for (const auto& smp : m_.samples) {
+      SampleCode code;
+      code.flag = smp.flag;
+      code.start = b.root(smp.start, s);
+      code.interval = b.root(smp.interval, s);
+      const Expr roots[] = {smp.start, smp.interval};
+      for (Expr leaf : symbolic::leaves(arena(), roots))
+        if (arena().kind(leaf) == ExprKind::Symbol && arena().symbol_info(leaf).role == SymbolRole::Parameter)
+          code.parameters.push_back(arena().symbol_info(leaf).index);
+      p_.samples.push_back(std::move(code));
     }
   }
 

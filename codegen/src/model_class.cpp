@@ -43,7 +43,8 @@ const std::array<mo::runtime::Sparsity, 2>& hessian_sparsities() {
 class GeneratedModel final : public mo::runtime::Model {
 public:
   GeneratedModel() : w_(num_slots, 0.0), cross_(ng, 0), reversed_(ng, 0), relations_(ng, 0),
-                     before_(nwhen, 0.0), now_(nwhen, 0.0), fired_(nwhen, 0) {
+                     before_(nwhen, 0.0), now_(nwhen, 0.0), fired_(nwhen, 0),
+                     sample_start_(nsample, 0.0), sample_interval_(nsample, 1.0) {
     reset();
   }
 
@@ -58,7 +59,9 @@ public:
     std::fill(w_.begin() + u_slot, w_.begin() + u_slot + nu, 0.0);  // the initial system sees u = 0
     section_starts();
     for (std::size_t i = 0; i < nx; ++i) x0[i] = w_[static_cast<std::size_t>(start_slots[i])];
+    load_samples();
     if (initial_flag >= 0) initial_event(p, x0);
+    if (nsample > 0) sample_event_at_start(p, x0);
   }
 
   void rhs(double t, std::span<const double> x, std::span<const double> u,
@@ -147,6 +150,21 @@ public:
     for (std::size_t i = 0; i < ng; ++i) g[i] = w_[static_cast<std::size_t>(crossing_slots[i])];
   }
 
+  // The next tick start + k*interval of any sample() strictly after t (one
+  // within rounding of t counts as reached), each computed from its k.
+  double next_time_event(double t) const override {
+    double next = std::numeric_limits<double>::infinity();
+    const double tolerance = 8 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t));
+    for (std::size_t i = 0; i < nsample; ++i) {
+      const double s = sample_start_[i], h = sample_interval_[i];
+      double k = std::max(0.0, std::floor((t - s) / h));
+      while (k > 0.0 && s + (k - 1.0) * h > t + tolerance) k -= 1.0;  // floor rounded up
+      while (s + k * h <= t + tolerance) k += 1.0;
+      next = std::min(next, s + k * h);
+    }
+    return next;
+  }
+
   // pre(d) := d; a when-clause fires if its condition is true now and was
   // false just before (an every-event clause at every call, so that each
   // event iteration solves the discrete equations again). Relations on
@@ -179,6 +197,8 @@ public:
     if (initialising_) {
       set_initial(1.0);
       section_steps();
+    } else if (!(cause.t == samples_done_) && raise_samples(cause.t)) {
+      section_steps();
     }
     conditions(cross_.data(), now_);
     mo::runtime::EventResponse response;
@@ -197,6 +217,13 @@ public:
     }
     for (std::size_t i = 0; i < nd; ++i)
       response.discrete_changed = response.discrete_changed || w[d_slot + i] != w[pre_d_slot + i];
+    // Once the instant settles, sample() is false again: one more iteration
+    // at the same instant lets what depends on it (b = sample(...)) settle too.
+    if (!response.discrete_changed && samples_raised_) {
+      lower_samples();
+      samples_done_ = cause.t;
+      response.discrete_changed = true;
+    }
     return response;
   }
 
@@ -235,6 +262,13 @@ public:
     if (event_rhs_section < 0) return mo::runtime::Model::handle_event_tangent(cause, x, u, p, directions, unsupported);
     const std::vector<double> x_before(x.begin(), x.end());
     const mo::runtime::EventResponse response = handle_event(cause, x, u, p);
+    for (std::size_t i = 0; i < nsample && unsupported.empty(); ++i) {
+      if (!sample_tick(i, cause.t)) continue;
+      for (const mo::runtime::EventTangent& dir : directions)
+        for (int k = sample_param_start[i]; k < sample_param_start[i + 1]; ++k)
+          if (dir.p[static_cast<std::size_t>(sample_params[k])] != 0.0 && unsupported.empty())
+            unsupported = info().discrete[static_cast<std::size_t>(sample_flag[i])].name;
+    }
     const std::vector<double> d_after(w_.begin() + d_slot, w_.begin() + d_slot + nd);
     std::copy(x_before.begin(), x_before.end(), w_.begin() + x_slot);
     for (std::size_t i = 0; i < nd; ++i) w_[d_slot + i] = w_[pre_d_slot + i];
@@ -268,7 +302,8 @@ private:
   void reset() {
     reset_discrete();
     for (std::size_t i = 0; i < nnewton; ++i) w_[static_cast<std::size_t>(newton_slots[i])] = newton_start[i];
-    event_time_ = std::numeric_limits<double>::quiet_NaN();
+    event_time_ = samples_done_ = std::numeric_limits<double>::quiet_NaN();
+    lower_samples();
   }
   // The event at initialisation (t = 0, inputs 0): initial() is 1 and was
   // 0 just before, so the clauses on it fire (in order, each seeing what the
@@ -281,6 +316,50 @@ private:
       if (!handle_event(cause, x0, {}, p).discrete_changed) break;
     initialising_ = false;
     set_initial(0.0);
+    event_time_ = std::numeric_limits<double>::quiet_NaN();
+  }
+  // start and interval of every sample() at the parameters initial_state loaded.
+  void load_samples() {
+    if (nsample == 0) return;
+    run(samples_section, nullptr);
+    for (std::size_t i = 0; i < nsample; ++i) {
+      sample_start_[i] = w_[static_cast<std::size_t>(sample_start_slot[i])];
+      sample_interval_[i] = w_[static_cast<std::size_t>(sample_interval_slot[i])];
+    }
+  }
+  // True if t is start + k*interval (k >= 0) of sample i, within rounding.
+  bool sample_tick(std::size_t i, double t) const {
+    const double s = sample_start_[i], h = sample_interval_[i];
+    if (!(h > 0.0)) return false;
+    const double k = std::nearbyint((t - s) / h);
+    const double tolerance = 8 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t));
+    return k >= 0.0 && std::abs(s + k * h - t) <= tolerance;
+  }
+  // Sets the flags of the samples that tick at t; true if any does.
+  bool raise_samples(double t) {
+    bool& any = samples_raised_;
+    for (std::size_t i = 0; i < nsample; ++i)
+      if (sample_tick(i, t)) {
+        w_[d_slot + static_cast<std::size_t>(sample_flag[i])] = 1.0;
+        any = true;
+      }
+    return any;
+  }
+  void lower_samples() {
+    samples_raised_ = false;
+    for (std::size_t i = 0; i < nsample; ++i)
+      w_[d_slot + static_cast<std::size_t>(sample_flag[i])] =
+          w_[pre_d_slot + static_cast<std::size_t>(sample_flag[i])] = 0.0;
+  }
+  // A tick at t = 0 is an event right after the event at initialisation.
+  void sample_event_at_start(std::span<const double> p, std::span<double> x0) {
+    bool tick = false;
+    for (std::size_t i = 0; i < nsample; ++i) tick = tick || sample_tick(i, 0.0);
+    if (!tick) return;
+    event_time_ = std::numeric_limits<double>::quiet_NaN();
+    const mo::runtime::EventCause cause{0.0, {}, true};
+    for (int iteration = 0; iteration < 100; ++iteration)
+      if (!handle_event(cause, x0, {}, p).discrete_changed) break;
     event_time_ = std::numeric_limits<double>::quiet_NaN();
   }
   void set_initial(double v) {
@@ -328,6 +407,9 @@ private:
   std::vector<int> cross_, reversed_, relations_;
   std::vector<double> before_, now_;
   std::vector<char> fired_;
+  std::vector<double> sample_start_, sample_interval_;
+  double samples_done_ = std::numeric_limits<double>::quiet_NaN();  ///< the instant whose ticks were handled
+  bool samples_raised_ = false;  ///< some sample() flag is 1 (an instant with ticks is being handled)
   double event_time_ = std::numeric_limits<double>::quiet_NaN();
   bool initialising_ = false;
 };

@@ -70,6 +70,7 @@ struct Dae {
   std::vector<DaeWhen> whens;
   /// Index into `discrete` of the flag `initial()` reads, or -1 (not used).
   std::int32_t initial_flag = -1;
+  std::vector<OdeSample> samples;  ///< the distinct sample() calls and their flags
   /// Symbol id → DaeVar index (for Algebraic symbols made by lowering).
   std::vector<int> var_of_symbol;
 

@@ -77,6 +77,7 @@ public:
                   [this](const ast::Expr& r) { return ref(r); },
                   [this](const ast::Expr& x) { return der(x); });
     conv_->on_initial([this] { return initial_flag(); });
+    conv_->on_sample([this](const ast::Expr& c) { return sample_flag(dae_, *conv_, c, param_values_); });
   }
 
   std::optional<Dae> run() {
@@ -140,9 +141,21 @@ private:
       }
     }
     for (const ast::Expr* r : roots) pre_reads(*r, pre_read);
+    std::unordered_set<int> on_left;  // variables alone on the left of some equation
+    for (const ast::Equation& eq : f_.equations)
+      if (eq.kind == ast::EquationKind::Simple && eq.lhs->kind == ast::ExprKind::Ref && eq.lhs->var >= 0)
+        on_left.insert(eq.lhs->var);
     for (const ast::Equation& eq : f_.equations) {
-      if (eq.kind != ast::EquationKind::Simple || eq.lhs->kind != ast::ExprKind::Ref || eq.lhs->var < 0) continue;
-      const int v = eq.lhs->var;
+      if (eq.kind != ast::EquationKind::Simple) continue;
+      const ast::Expr* lhs = eq.lhs.get();
+      const ast::Expr* rhs = eq.rhs.get();
+      // `a = v` (a connection) with v read by pre(), a not, and v on the
+      // left of no equation: the equation is v's
+      if (rhs->kind == ast::ExprKind::Ref && rhs->var >= 0 && pre_read.contains(rhs->var) &&
+          !on_left.contains(rhs->var) && !(lhs->kind == ast::ExprKind::Ref && lhs->var >= 0 && pre_read.contains(lhs->var)))
+        std::swap(lhs, rhs);
+      if (lhs->kind != ast::ExprKind::Ref || lhs->var < 0) continue;
+      const int v = lhs->var;
       const flat::Variable& var = fv(v);
       const bool discrete_type = var.type == flat::BaseType::Boolean || var.type == flat::BaseType::Integer ||
                                  var.variability == ast::Variability::Discrete;
@@ -150,21 +163,23 @@ private:
           (var.variability != ast::Variability::Continuous && var.variability != ast::Variability::Discrete))
         continue;
       std::unordered_set<int> own;
-      if (!pre_read.contains(v) && !pre_reads(*eq.rhs, own)) continue;
+      if (!pre_read.contains(v) && !pre_reads(*rhs, own)) continue;
       discrete_.insert(v);
-      event_equations_.insert(&eq);
+      event_equations_.emplace(&eq, lhs == eq.lhs.get());
     }
   }
 
   /// Adds the flat variables that pre() calls in `e` read to `out`; true if
-  /// `e` calls pre() at all. Iterative (expressions may be deep).
+  /// `e` calls pre() at all (edge(v) and change(v) read pre(v) too).
+  /// Iterative (expressions may be deep).
   static bool pre_reads(const ast::Expr& e, std::unordered_set<int>& out) {
     bool any = false;
     std::vector<const ast::Expr*> stack{&e};
     while (!stack.empty()) {
       const ast::Expr* x = stack.back();
       stack.pop_back();
-      if (x->kind == ast::ExprKind::Call && x->ref.str() == "pre") {
+      if (x->kind == ast::ExprKind::Call &&
+          (x->ref.str() == "pre" || x->ref.str() == "edge" || x->ref.str() == "change")) {
         any = true;
         if (!x->args.empty() && x->args[0] && x->args[0]->kind == ast::ExprKind::Ref && x->args[0]->var >= 0)
           out.insert(x->args[0]->var);
@@ -309,8 +324,10 @@ private:
   void equation(const ast::Equation& eq);
   void initial_equations();
   bool discrete_initial_assignment(const ast::Equation& eq);
+  bool initial_pre(const ast::Equation& eq);
   void if_equation(const ast::Equation& eq);
   void when_equation(const ast::Equation& eq);
+  void when_clause(const ast::Expr& condition, const ast::EquationBranch& branch);
   void outputs();
 
   const flat::Model& f_;
@@ -318,7 +335,8 @@ private:
   Dae dae_;
   std::vector<Slot> slots_;
   std::unordered_set<int> discrete_;
-  std::unordered_set<const ast::Equation*> event_equations_;  ///< see mark_event_equations()
+  /// see mark_event_equations(); true if the variable is on the left
+  std::unordered_map<const ast::Equation*, bool> event_equations_;
   std::unordered_set<int> in_progress_;
   std::optional<ExprConverter> conv_;
   LeafValues param_values_;  ///< default value of every parameter symbol
@@ -329,12 +347,13 @@ private:
 void Builder::equation(const ast::Equation& eq) {
   switch (eq.kind) {
   case ast::EquationKind::Simple: {
-    if (event_equations_.contains(&eq)) {
+    if (const auto it = event_equations_.find(&eq); it != event_equations_.end()) {
       DaeWhen w;
       w.condition = dae_.arena.constant(1.0);
       w.every_event = true;
       w.range = eq.range;
-      w.assignments.push_back({ref(*eq.lhs), conv_->convert(*eq.rhs)});
+      const ast::Expr& target = it->second ? *eq.lhs : *eq.rhs;
+      w.assignments.push_back({ref(target), conv_->convert(it->second ? *eq.rhs : *eq.lhs)});
       dae_.whens.push_back(std::move(w));
       return;
     }
@@ -382,7 +401,7 @@ void Builder::initial_equations() {
                       "equation is ignored and the parameter keeps its value");
         continue;
       }
-      if (discrete_initial_assignment(eq)) continue;
+      if (initial_pre(eq) || discrete_initial_assignment(eq)) continue;
       DaeEq e;
       e.residual = dae_.arena.sub(conv_->convert(*eq.lhs), conv_->convert(*eq.rhs));
       e.range = eq.range;
@@ -429,6 +448,45 @@ bool Builder::discrete_initial_assignment(const ast::Equation& eq) {
   return true;
 }
 
+/// `pre(v) = expr` (or `expr = pre(v)`) in an initial section, v Boolean,
+/// Integer or discrete. Modelica 3 §8.6: pre(v) at initialisation is the value
+/// before the event at initialisation, an unknown of the initial system that
+/// this equation fixes, as `fixed = true` fixes it to v.start (OpenModelica
+/// treats both alike). For a discrete v it sets the value pre(v) (and v
+/// until the event at initialisation) starts from, like a start value:
+/// evaluated at the parameters' values and t = 0 (MathBoolean.OnDelay's
+/// `pre(t_next) = time - 1`). A v that stays continuous has no
+/// pre() read anywhere (mark_event_equations), so there is nothing to fix and
+/// the equation is dropped. Returns false for other equations.
+bool Builder::initial_pre(const ast::Equation& eq) {
+  auto is_pre = [](const ast::Expr& e) {
+    return e.kind == ast::ExprKind::Call && e.ref.str() == "pre" && e.args.size() == 1 &&
+           e.args[0]->kind == ast::ExprKind::Ref && e.args[0]->var >= 0;
+  };
+  const ast::Expr* call = eq.lhs.get();
+  const ast::Expr* value = eq.rhs.get();
+  if (!is_pre(*call)) std::swap(call, value);
+  if (!is_pre(*call)) return false;
+  const flat::Variable& v = fv(call->args[0]->var);
+  const Expr d = discrete_ref(*call->args[0]);
+  if (!d.valid())
+    return v.type == flat::BaseType::Boolean || v.type == flat::BaseType::Integer ||
+           v.variability == ast::Variability::Discrete;
+  LeafValues at_t0 = param_values_;  // the event at initialisation runs at t = 0
+  at_t0[dae_.time] = 0.0;
+  const Expr e = conv_->convert(*value);
+  double x = 0.0;
+  try {
+    x = evaluate(dae_.arena, std::span(&e, 1), at_t0)[0];
+  } catch (const std::invalid_argument&) {
+    error(DiagId::UnsupportedInLowering, eq.range,
+          "pre(" + v.name + ") in an initial equation must equal an expression of parameters and time");
+    return true;
+  }
+  dae_.discrete[static_cast<std::size_t>(dae_.arena.symbol_info(d).index)].start = x;
+  return true;
+}
+
 void Builder::if_equation(const ast::Equation& eq) {
   std::vector<std::vector<Expr>> branch_residuals;
   for (const auto& br : eq.branches) {
@@ -463,10 +521,24 @@ void Builder::if_equation(const ast::Equation& eq) {
   }
 }
 
+/// `when {c1, c2, ...}` fires when any element becomes true (Modelica 3
+/// §8.3.5): one clause per element with the same body. Elements that become
+/// true at one call run the body once each, over the same pre() values, so
+/// their assignments agree.
 void Builder::when_equation(const ast::Equation& eq) {
   for (const auto& br : eq.branches) {
+    if (br.condition->kind == ast::ExprKind::Array) {
+      for (const auto& c : br.condition->args) when_clause(*c, br);
+    } else {
+      when_clause(*br.condition, br);
+    }
+  }
+}
+
+void Builder::when_clause(const ast::Expr& condition, const ast::EquationBranch& br) {
+  {
     DaeWhen w;
-    w.condition = conv_->convert(*br.condition);
+    w.condition = conv_->convert(condition);
     w.range = br.range;
     for (const ast::Equation& s : br.body) {
       if (s.kind == ast::EquationKind::Simple && s.lhs->kind == ast::ExprKind::Ref &&

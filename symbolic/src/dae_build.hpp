@@ -14,6 +14,16 @@ namespace mo::symbolic::detail {
 /// Builds the DAE of `flat`; nullopt after reporting errors to `diags`.
 std::optional<Dae> build_dae(const frontend::flat::Model& flat, frontend::DiagnosticEngine& diags);
 
+class ExprConverter;
+
+/// The discrete flag of `call`, a flat `sample(start, interval)`: one per
+/// distinct (start, interval), added to dae.discrete and dae.samples on first
+/// use. start and interval must be parameter expressions, the interval
+/// positive at `parameters` (the parameters' values); otherwise reported
+/// through `conv` (converts to 0).
+Expr sample_flag(Dae& dae, ExprConverter& conv, const frontend::ast::Expr& call,
+                 const std::unordered_map<Expr, double, ExprHash>& parameters);
+
 /// Marks the variables whose der() the (alias-reduced) equations contain
 /// (DaeVar::source_derivative), and those among them with a time-invariant
 /// coefficient in some equation (DaeVar::linear_derivative). Run before

@@ -27,6 +27,11 @@ public:
   /// `initial()` converts to the symbol `initial` returns (the caller's
   /// discrete flag, true only while the model initialises).
   void on_initial(std::function<Expr()> initial) { initial_ = std::move(initial); }
+  /// `sample(start, interval)` converts to what `sample` returns for the
+  /// call (the caller's discrete flag, true only at the call's time events).
+  void on_sample(std::function<Expr(const frontend::ast::Expr& call)> sample) {
+    sample_ = std::move(sample);
+  }
   /// False once something could not be converted (and was reported).
   [[nodiscard]] bool ok() const { return ok_; }
   /// Reports `what` at e's range (once) and returns 0.
@@ -41,6 +46,7 @@ private:
   RefFn refs_;
   DerFn der_;
   std::function<Expr()> initial_;
+  std::function<Expr(const frontend::ast::Expr&)> sample_;
   bool ok_ = true;
 };
 

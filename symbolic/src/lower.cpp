@@ -246,6 +246,7 @@ private:
     out.parameters = dae_.parameters;
     out.discrete = dae_.discrete;
     out.initial_flag = dae_.initial_flag;
+    out.samples = dae_.samples;
     out.outputs.insert(out.outputs.end(), dae_.outputs.begin(), dae_.outputs.end());
     out.eliminated.insert(out.eliminated.end(), dae_.eliminated.begin(), dae_.eliminated.end());
     for (const DaeWhen& w : dae_.whens) {

@@ -92,6 +92,7 @@ void print_declarations(const OdeModel& m, std::string& out) {
   for (std::size_t i = 0; i < m.discrete.size(); ++i) {
     const OdeDiscrete& d = m.discrete[i];
     if (static_cast<std::int32_t>(i) == m.initial_flag) continue;  // printed as initial()
+    if (d.info.name.starts_with("sample(")) continue;  // printed as the call
     out += fmt::format("  discrete Real {}(start = {}){};\n", modelica_name(d.info.name),
                        number(d.start), comment(d.info));
   }

@@ -181,7 +181,8 @@ private:
       out_ += ')';
       return;
     }
-    if (info.role == SymbolRole::Discrete && n == "initial()") {  // the flag initial() reads
+    if (info.role == SymbolRole::Discrete &&
+        (n == "initial()" || n.starts_with("sample("))) {  // the flags initial() and sample() read
       out_ += n;
       return;
     }

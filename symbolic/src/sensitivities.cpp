@@ -52,13 +52,17 @@ Users users(const OdeModel& m, const std::vector<StepLeaves>& steps, std::size_t
 }
 
 /// True if an event expression (indicator, when-condition, reinit value,
-/// discrete assignment) reads one of `reached` (leaves that depend on p).
+/// discrete assignment, sample() start or interval) reads one of `reached` (leaves that depend on p).
 bool touches_events(const OdeModel& m, const std::unordered_set<Expr, ExprHash>& reached) {
   std::vector<Expr> roots(m.zero_crossings);
   for (const WhenClause& w : m.whens) {
     roots.push_back(w.condition);
     for (const Assignment& a : w.assignments) roots.push_back(a.value);
     for (const Reinit& r : w.reinits) roots.push_back(r.value);
+  }
+  for (const OdeSample& smp : m.samples) {  // the times of sample()'s events
+    roots.push_back(smp.start);
+    roots.push_back(smp.interval);
   }
   for (Expr l : leaves(m.arena, roots)) {
     // pre(v) of a continuous v is v's value at the event.

@@ -119,6 +119,14 @@ struct WhenCode {
   std::vector<std::pair<std::size_t, Slot>> reinits;  ///< (state index, value slot)
 };
 
+/// A sample(start, interval) as slots (symbolic::OdeSample): the `samples`
+/// section computes start and interval from the parameters.
+struct SampleCode {
+  int flag = -1;           ///< index of its flag in the discrete variables
+  Slot start = 0, interval = 0;
+  std::vector<int> parameters;  ///< parameters start or interval reads (event times move with them)
+};
+
 /// Derivatives of the event map (symbolic/event_tangents.hpp) as sections.
 /// `rhs` recomputes the steps with every relation on an indicator valued from
 /// cross[] (f just before or just after an event); `tangent` then gives the
@@ -160,6 +168,8 @@ struct Program {
   std::vector<Slot> condition_slots;   ///< when-condition k after conditions
   std::vector<std::pair<Slot, Slot>> pre_copies;  ///< (pre(v) slot, v slot) of non-discrete v
   std::vector<WhenCode> whens;
+  int samples_section = -1;            ///< computes every SampleCode's start and interval (-1: none)
+  std::vector<SampleCode> samples;
   EventTangentCode event_tangents;        ///< sensitivities through events
   std::array<JacobianCode, 7> jacobians;  ///< in mo::runtime::Jacobian order
   std::array<HessianCode, 2> hessians;    ///< in mo::runtime::Hessian order (f, h)

@@ -139,6 +139,17 @@ struct WhenClause {
   std::vector<Reinit> reinits;
 };
 
+/// `sample(start, interval)`: time events at exactly start + k·interval,
+/// k = 0, 1, ... (each time computed from k, so no rounding accumulates).
+/// The call reads a discrete flag that is 1 only during the handler calls of
+/// such an event (0 between events and during initialisation; a tick at
+/// t = 0 is an event right after the event at initialisation).
+struct OdeSample {
+  std::int32_t flag = -1;  ///< index into OdeModel::discrete of the flag, printed as the call
+  Expr start;              ///< over parameters
+  Expr interval;           ///< over parameters, > 0 at their values
+};
+
 /// The lowered model. Owns its expressions.
 struct OdeModel {
   ExprArena arena;
@@ -165,6 +176,7 @@ struct OdeModel {
   /// on initial() (and the `initial algorithm` assignments of discrete
   /// variables, lowered to such clauses) fire there.
   std::int32_t initial_flag = -1;
+  std::vector<OdeSample> samples;  ///< the distinct sample() calls (time events)
 
   /// Index of the parameter named `name`, or nullopt.
   [[nodiscard]] std::optional<std::size_t> parameter_index(std::string_view name) const;

@@ -1,0 +1,129 @@
+// sample(start, interval) time events, when-clauses on vectors of conditions
+// and `initial equation pre(y) = y_start` (issue 12, the MSL's Blocks.Sources,
+// MathInteger and Logical blocks), each against its exact solution.
+#include "e2e/cli.hpp"
+#include "e2e/support.hpp"
+#include "mo/runtime/simulate.hpp"
+
+#include <sstream>
+
+using namespace mo;
+using namespace mo::e2e;
+
+namespace {
+
+/// An event at t, to the last bits: a tick k of sample(start, interval) is at
+/// start + k*interval as one product, not a running sum (0.1 added ten times
+/// is 0.9999999999999999). Ticks of two samples within rounding of each
+/// other (0.75 and 0.05 + 7*0.1 = 0.7500000000000001) are one event.
+bool has_time(const std::vector<double>& times, double t) {
+  return std::any_of(times.begin(), times.end(), [&](double e) { return std::fabs(e - t) <= 2.5e-16; });
+}
+
+}  // namespace
+
+TEST_CASE("sample(): ticks at exactly start + k*interval, counters, sample-and-hold, edge") {
+  auto model = compiled_model("e2e_sample_clock", {{kData + "SampleClock.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  std::vector<double> x0(model->info().states.size());
+  model->initial_state(p, x0);
+  CHECK(discrete_value(*model, "n") == 1.0);  // the tick at t = 0, right after initialisation
+  CHECK(discrete_value(*model, "e") == 1.0);
+  const auto grid = runtime::OutputGrid::uniform(0, 1.0, 20);  // t = 0.05 k
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  // y = integral of n, n = k + 1 on [0.1 k, 0.1 (k + 1)).
+  const auto y = column(r.trajectory, "y");
+  for (std::size_t j = 0; j < grid.times.size(); ++j) {
+    const double t = grid.times[j];
+    const double k = std::floor(t / 0.1 + 1e-9);
+    const double exact = 0.1 * k * (k + 1) / 2 + (k + 1) * (t - 0.1 * k);
+    INFO("t = " << t);
+    CHECK(std::fabs(y[j] - exact) < 1e-8);
+  }
+  std::ostringstream events;
+  events.precision(17);
+  for (double t : r.event_times) events << t << " ";
+  INFO("event times: " << events.str());
+  for (int k = 1; k <= 10; ++k) CHECK(has_time(r.event_times, k * 0.1));
+  for (int k = 0; k <= 9; ++k) CHECK(has_time(r.event_times, 0.05 + k * 0.1));
+  double sum = 0;
+  for (int k = 0; k < 10; ++k) sum += 0.1;
+  const auto& ev = r.event_times;
+  CHECK(sum != 1.0);
+  CHECK(std::find(ev.begin(), ev.end(), 10 * 0.1) != ev.end());  // exactly 1.0
+  CHECK(std::find(ev.begin(), ev.end(), sum) == ev.end());        // not a running sum
+  CHECK(discrete_value(*model, "n") == 11.0);  // t = 0, 0.1, ..., 1.0
+  CHECK(std::fabs(discrete_value(*model, "xs") - 0.95) < 1e-9);
+  CHECK(discrete_value(*model, "m") == 5.0);  // 0.55, 0.65, ..., 0.95
+  CHECK(discrete_value(*model, "e") == 5.0);  // 0, 0.25, 0.5, 0.75, 1.0
+  CHECK(discrete_value(*model, "b") == 0.0);  // false again after the instant
+}
+
+TEST_CASE("sample(): the ticks move with a parameter interval; sensitivities to it are refused") {
+  auto model = compiled_model("e2e_sample_clock", {{kData + "SampleClock.mo", "", {}, true}, {}});
+  auto p = model->info().default_parameters();
+  p[parameter(model->info(), "T")] = 0.3;
+  const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1.0, 4), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  CHECK(discrete_value(*model, "n") == 4.0);  // t = 0, 0.3, 0.6, 0.9
+  CHECK(has_time(r.event_times, 3 * 0.3));
+
+  auto with_s = compiled_model("e2e_sample_clock_sT", {{kData + "SampleClock.mo", "", {}, true}, {"T"}});
+  const auto ps = with_s->info().default_parameters();
+  auto options = tight();
+  options.sensitivities.method = runtime::SensitivityMethod::model_states;
+  const auto rs = runtime::simulate(*with_s, {}, ps, runtime::OutputGrid::uniform(0, 1.0, 4), options);
+  INFO(rs.message);
+  CHECK_FALSE(rs.ok());
+  CHECK(rs.message.find("'sample(t1, T)'") != std::string::npos);  // the first tick, t = 0.05
+}
+
+TEST_CASE("when {a, b, c} fires when any element becomes true, once per instant") {
+  auto model = compiled_model("e2e_when_vector", {{kData + "WhenVector.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1.0, 10), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  CHECK(discrete_value(*model, "n") == 2.0);  // t = 0.3 (two elements at once), t = 0.6
+  CHECK(std::fabs(discrete_value(*model, "last") - 0.6) < 1e-8);
+  CHECK(discrete_value(*model, "m") == 1.0);  // `or` stays true at 0.6
+}
+
+TEST_CASE("initial equation pre(y) = y_start fixes the value before initialisation") {
+  // T is a triangle between 0.2 and 0.8 of slope ±1; from T(0) = 0.5 it
+  // first rises (pre(y) = true) or falls (false).
+  auto triangle = [](double t, bool up) {
+    const double first = 0.3;  // time to reach the first bound
+    if (t <= first) return up ? 0.5 + t : 0.5 - t;
+    const double s = std::fmod(t - first, 1.2);  // then 0.6 one way, 0.6 back
+    const double from = up ? 0.8 : 0.2, dir = up ? -1.0 : 1.0;
+    return s <= 0.6 ? from + dir * s : from + dir * (1.2 - s);
+  };
+  for (const bool up : {true, false}) {
+    const std::string cls = up ? "InitialPre" : "InitialPreOff";
+    auto model = compiled_model("e2e_" + cls, {{kData + "InitialPre.mo", cls, {}, true}, {}});
+    const auto p = model->info().default_parameters();
+    const auto grid = runtime::OutputGrid::uniform(0, 3.0, 60);
+    const auto r = runtime::simulate(*model, {}, p, grid, tight());
+    INFO(cls << ": " << r.message);
+    REQUIRE(r.ok());
+    const auto T = column(r.trajectory, "T");
+    for (std::size_t k = 0; k < grid.times.size(); ++k) {
+      INFO("t = " << grid.times[k]);
+      CHECK(std::fabs(T[k] - triangle(grid.times[k], up)) < 1e-7);
+    }
+  }
+}
+
+TEST_CASE("a collocation study on a model with sample() is refused at the tick") {
+  const fs::path dir = scratch("sample_study");
+  const Run r = morun(quoted(kData + "SampleStudy.mop") + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("SampleStudy.mop:9:3: error: when sample(0.25, 0.5): the multi-phase collocation takes "
+                   "when-conditions that are one relation") != std::string::npos);
+  CHECK(!fs::exists(dir / "out" / "summary.json"));
+}
