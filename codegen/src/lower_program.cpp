@@ -14,6 +14,7 @@
 #include "mo/symbolic/evaluator.hpp"
 #include "mo/symbolic/ode_interpreter.hpp"
 #include "mo/symbolic/event_tangents.hpp"
+#include "mo/symbolic/mixed_order.hpp"
 #include "mo/symbolic/traversal.hpp"
 #include "section_builder.hpp"
 
@@ -298,10 +299,12 @@ private:
         p_.condition_slots.push_back(
             b.root(w.condition, p_.sections[static_cast<std::size_t>(p_.conditions)]));
     }
+    const std::vector<bool> before_steps = symbolic::every_event_before_steps(m_);
     for (std::size_t k = 0; k < m_.whens.size(); ++k) {
       const auto& w = m_.whens[k];
       WhenCode code;
       code.every_event = w.every_event;
+      code.before_steps = before_steps[k];
       new_section("when" + std::to_string(k), code.section);
       auto b = builder(after_steps_);
       Section& s = p_.sections[static_cast<std::size_t>(code.section)];

@@ -205,16 +205,15 @@ public:
     double* w = w_.data();
     std::fill(fired_.begin(), fired_.end(), 0);
     for (std::size_t k = 0; k < nwhen; ++k) {
-      if (!when_every_event[k] && (now_[k] == 0.0 || before_[k] != 0.0)) continue;
+      if (when_every_event[k] || now_[k] == 0.0 || before_[k] != 0.0) continue;
       fired_[k] = 1;
-      when_sections[k](w, nullptr, ws_);
-      for (int a = when_assign_start[k]; a < when_assign_start[k + 1]; ++a)
-        w[when_assign_target[a]] = w[when_assign_value[a]];
+      fire(k);
       for (int r = when_reinit_start[k]; r < when_reinit_start[k + 1]; ++r) {
         x[static_cast<std::size_t>(when_reinit_state[r])] = w[when_reinit_value[r]];
         response.states_reinit = true;
       }
     }
+    solve_mixed();
     for (std::size_t i = 0; i < nd; ++i)
       response.discrete_changed = response.discrete_changed || w[d_slot + i] != w[pre_d_slot + i];
     // Once the instant settles, sample() is false again: one more iteration
@@ -380,6 +379,47 @@ private:
     for (std::size_t i = 0; i < nd; ++i) w_[pre_d_slot + i] = w_[d_slot + i];
     ws_.time = t;
     ws_.failure.clear();
+  }
+
+  // Runs when-clause k and makes its assignments; true if one changed a value.
+  bool fire(std::size_t k) {
+    double* w = w_.data();
+    when_sections[k](w, nullptr, ws_);
+    bool changed = false;
+    for (int a = when_assign_start[k]; a < when_assign_start[k + 1]; ++a) {
+      changed = changed || w[when_assign_target[a]] != w[when_assign_value[a]];
+      w[when_assign_target[a]] = w[when_assign_value[a]];
+    }
+    return changed;
+  }
+  // The every-event clauses with when_before_steps[k] == first, in order.
+  bool fire_every_event(bool first) {
+    bool changed = false;
+    for (std::size_t k = 0; k < nwhen; ++k) {
+      if (!when_every_event[k] || (when_before_steps[k] != 0) != first) continue;
+      fired_[k] = 1;
+      changed = fire(k) || changed;
+    }
+    return changed;
+  }
+
+  // Modelica 3 §8.6: one event iteration solves the discrete equations
+  // outside when-clauses (the every-event clauses) together with the
+  // continuous ones, pre() held. By fixed-point iteration, each pass: the
+  // clauses computed from discrete values alone (when_before_steps), the
+  // continuous steps with the values just assigned, the clauses that read
+  // the steps; until a pass changes nothing. (The MSL friction: `locked`
+  // from pre(mode) and the start flags, `sa` from `locked`, `startForward`
+  // from `sa`.) Without a fixed point after a bounded number of passes the
+  // last values stand and the handler's event iteration goes on.
+  void solve_mixed() {
+    for (std::size_t pass = 0; pass < 2 * nd + 8; ++pass) {
+      bool changed = fire_every_event(true);
+      if (changed) section_steps();
+      changed = fire_every_event(false) || changed;
+      if (!changed) return;
+      section_steps();
+    }
   }
 
   void run(int section, const int* cross) {

@@ -159,6 +159,40 @@ std::vector<std::string_view> split_fields(std::string_view line) {
   return fields;
 }
 
+// The header's names; RFC 4180 quoting ("a[1,2]", "" for a quote), as
+// write_csv_atomic writes a name with a comma or a quote.
+std::vector<std::string> split_header(std::string_view line) {
+  std::vector<std::string> fields;
+  std::size_t i = 0;
+  for (;;) {
+    while (i < line.size() && line[i] == ' ') ++i;
+    std::string field;
+    if (i < line.size() && line[i] == '"') {
+      for (++i; i < line.size(); ++i) {
+        if (line[i] != '"') {
+          field += line[i];
+        } else if (i + 1 < line.size() && line[i + 1] == '"') {
+          field += '"';
+          ++i;
+        } else {
+          ++i;
+          break;
+        }
+      }
+      const std::size_t comma = line.find(',', i);
+      fields.push_back(std::move(field));
+      if (comma == std::string_view::npos) break;
+      i = comma + 1;
+      continue;
+    }
+    const std::size_t comma = line.find(',', i);
+    fields.emplace_back(trim(line.substr(i, comma - i)));
+    if (comma == std::string_view::npos) break;
+    i = comma + 1;
+  }
+  return fields;
+}
+
 [[noreturn]] void fail(const std::string& source, std::size_t line, const std::string& what) {
   throw InputFileError(source + ":" + std::to_string(line) + ": error: " + what);
 }
@@ -285,8 +319,8 @@ InputTable parse_input_csv(std::string_view text, const std::string& source) {
     text.remove_prefix(eol == std::string_view::npos ? text.size() : eol + 1);
     ++line_no;
     if (line.empty() || line.front() == '#') continue;
-    auto fields = split_fields(line);
     if (!have_header) {
+      const std::vector<std::string> fields = split_header(line);
       if (fields.size() < 2 || fields[0] != "time")
         fail(source, line_no, "header must be 'time,<input>,...' with at least one input column");
       for (std::size_t j = 1; j < fields.size(); ++j) {
@@ -301,6 +335,7 @@ InputTable parse_input_csv(std::string_view text, const std::string& source) {
       header_line = line_no;
       continue;
     }
+    auto fields = split_fields(line);
     if (fields.size() != table.names.size() + 1)
       fail(source, line_no, "expected " + std::to_string(table.names.size() + 1) +
                                 " fields, found " + std::to_string(fields.size()));

@@ -104,6 +104,15 @@ void append_number(std::string& out, double v) {
   out.append(buf, end);
 }
 
+// A column name as a CSV field: quoted (RFC 4180) when it holds a comma or
+// a quote, as array elements of matrices do (`a[1,2]`).
+std::string csv_name(const std::string& name) {
+  if (name.find_first_of(",\"") == std::string::npos) return name;
+  std::string out = "\"";
+  for (char c : name) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
 }  // namespace
 
 void write_file_atomic(const std::string& path, const std::function<void(std::ostream&)>& write) {
@@ -145,7 +154,7 @@ void write_csv_atomic(const std::string& path, const ResultTable& table) {
     std::string line = "time";
     for (const auto& name : table.names()) {
       line += ',';
-      line += name;
+      line += csv_name(name);
     }
     out << line << '\n';
     for (std::size_t k = 0; k < table.rows(); ++k) {

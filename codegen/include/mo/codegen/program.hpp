@@ -115,6 +115,9 @@ struct HessianCode {
 struct WhenCode {
   int section = -1;  ///< computes the values of assignments and reinits
   bool every_event = false;  ///< fires at every handler call (WhenClause::every_event)
+  /// every_event only: evaluated before the continuous steps in each pass of
+  /// the event iteration (symbolic::every_event_before_steps)
+  bool before_steps = false;
   std::vector<std::pair<Slot, Slot>> assignments;  ///< (discrete slot, value slot)
   std::vector<std::pair<std::size_t, Slot>> reinits;  ///< (state index, value slot)
 };
