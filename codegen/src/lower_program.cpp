@@ -125,6 +125,17 @@ public:
       std::vector<Expr> conditions;
       for (const auto& w : m_.whens) conditions.push_back(w.condition);
       relations_ = match_relations(m_, conditions);
+      // In the clauses' bodies too (the every-event mode equations of the
+      // MSL friction: `startForward = … sa > tau0_max …`): at the root CVODES
+      // reports, the indicator may be exactly 0, and the relation evaluated
+      // from the values would still hold its old value (Modelica 3 §8.5: at
+      // an event a relation takes its new value).
+      std::vector<Expr> bodies;
+      for (const auto& w : m_.whens) {
+        for (const auto& as : w.assignments) bodies.push_back(as.value);
+        for (const auto& r : w.reinits) bodies.push_back(r.value);
+      }
+      when_relations_ = match_relations(m_, bodies);
     }
     if (!m_.zero_crossings.empty() || !m_.whens.empty()) {
       tangents_ = symbolic::event_tangents(m_);
@@ -307,6 +318,7 @@ private:
       code.before_steps = before_steps[k];
       new_section("when" + std::to_string(k), code.section);
       auto b = builder(after_steps_);
+      for (const auto& r : when_relations_) b.override_relation(r.relation, r.indicator, r.value_if_down);
       Section& s = p_.sections[static_cast<std::size_t>(code.section)];
       for (const auto& as : w.assignments) {
         if (arena().kind(as.target) != ExprKind::Symbol ||
@@ -553,7 +565,8 @@ private:
   Program p_;
   std::optional<detail::SlotMap> slots_;
   std::vector<Expr> pre_discrete_;
-  std::vector<RelationOnCrossing> relations_;
+  std::vector<RelationOnCrossing> relations_;       // relations of the when-conditions
+  std::vector<RelationOnCrossing> when_relations_;  // relations of the when-clauses' bodies
   std::optional<symbolic::EventTangents> tangents_;
   std::vector<RelationOnCrossing> event_relations_;  // relations of the event_tangents sections
   detail::Derivatives derivatives_;

@@ -382,9 +382,10 @@ private:
   }
 
   // Runs when-clause k and makes its assignments; true if one changed a value.
+  // Its relations on indicators follow the crossings of this instant.
   bool fire(std::size_t k) {
     double* w = w_.data();
-    when_sections[k](w, nullptr, ws_);
+    when_sections[k](w, cross_.data(), ws_);
     bool changed = false;
     for (int a = when_assign_start[k]; a < when_assign_start[k + 1]; ++a) {
       changed = changed || w[when_assign_target[a]] != w[when_assign_value[a]];

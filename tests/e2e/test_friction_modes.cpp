@@ -227,3 +227,42 @@ TEST_CASE("MSL-style clutch between two inertias: locks after sliding, exact", "
   WARN("clutch between two inertias: " << exact.phases.size() << " phases (" << locks << " lock-ups), max error "
                                        << worst);
 }
+
+TEST_CASE("a mode equation's relation takes its new value at a root where its indicator is exactly 0", "[events][friction]") {
+  // The MSL's Rotational Friction example stayed stuck when CVODES returned
+  // the breakaway root with sa + tau0_max == 0 exactly: startBackward read
+  // sa < -tau0_max from the values, false, and the crossing was lost.
+  auto model = compiled_model("e2e_exact_root_relation", {{kData + "ExactRootRelation.mo", "", {}, true}, {}});
+  const auto& info = model->info();
+  const auto p = info.default_parameters();
+  std::vector<double> x(1);
+  model->initial_state(p, x);
+  REQUIRE(info.num_event_indicators == 1);
+  std::vector<double> g(1);
+  x = {0.4};
+  model->event_indicators(0.4, x, {}, p, g);
+  const int up[] = {g[0] < 0 ? 1 : -1};  // x rising through the limit
+  x = {0.5};
+  model->event_indicators(0.5, x, {}, p, g);
+  REQUIRE(g[0] == 0.0);
+  auto r = model->handle_event({0.5, up, false}, x, {}, p);
+  CHECK(r.discrete_changed);
+  CHECK(discrete_value(*model, "over") == 1.0);
+  // The event iteration at the same instant (as simulate() runs it): the
+  // when-clause on `over` fires once.
+  for (int k = 0; k < 5 && r.discrete_changed; ++k) r = model->handle_event({0.5, {}, false}, x, {}, p);
+  CHECK_FALSE(r.discrete_changed);
+  CHECK(discrete_value(*model, "crossings") == 1.0);
+  // Away from a crossing the relation is read from the values, as before.
+  model->initial_state(p, x);
+  x = {0.5};
+  r = model->handle_event({0.5, {}, false}, x, {}, p);
+  CHECK(discrete_value(*model, "over") == 0.0);
+  // And a whole run counts one crossing, at the limit.
+  model->initial_state(p, x);
+  const auto run = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1, 10), tight());
+  REQUIRE(run.ok());
+  REQUIRE(run.event_times.size() == 1);
+  CHECK(run.event_times[0] == Approx(0.5).epsilon(1e-9));
+  CHECK(discrete_value(*model, "crossings") == 1.0);
+}
