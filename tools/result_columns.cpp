@@ -16,6 +16,9 @@ std::size_t add_all_variables(symbolic::OdeModel& ode, std::size_t algebraics) {
       added.push_back({ode.algebraics[i].info, ode.algebraics[i].symbol});
   for (const auto& e : ode.eliminated)
     if (taken.insert(e.info.name).second) added.push_back(e);
+  for (const auto& d : ode.discrete)  // not the flags of initial() and sample()
+    if (d.info.name.find('(') == std::string::npos && taken.insert(d.info.name).second)
+      added.push_back({d.info, d.symbol});
   ode.outputs.insert(ode.outputs.end(), added.begin(), added.end());
   return added.size();
 }

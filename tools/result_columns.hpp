@@ -1,6 +1,6 @@
 // Which variables result.csv holds: by default every variable of the flat
-// model (states, algebraic variables, outputs and the variables lowering
-// eliminated, under their flat names), optionally filtered by a regular
+// model (states, algebraic variables, discrete variables, outputs and the
+// variables lowering eliminated, under their flat names), optionally filtered by a regular
 // expression (OpenModelica's variableFilter); and the rows that may be kept
 // after a failure (never a row with NaN or infinity).
 #pragma once
@@ -17,8 +17,9 @@ namespace mo::tools {
 
 /// Appends to `ode.outputs` the first `algebraics` algebraic variables (those
 /// of the model, not of its sensitivity equations) and every eliminated
-/// variable whose name is not already a state or an output, each as an output
-/// of its own value, so that the simulation reports it. Returns how many were added.
+/// variable and every discrete variable (as the event handler last left it)
+/// whose name is not already a state or an output, each as an output of its
+/// own value, so that the simulation reports it. Returns how many were added.
 std::size_t add_all_variables(symbolic::OdeModel& ode, std::size_t algebraics);
 
 /// The columns of `table` whose names match `filter` entirely (time is always

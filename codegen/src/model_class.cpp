@@ -315,6 +315,16 @@ private:
       if (!handle_event(cause, x0, {}, p).discrete_changed) break;
     initialising_ = false;
     set_initial(0.0);
+    // Then, before the integration starts, the event iteration with initial()
+    // false again, so that what initial() set outside when-clauses settles
+    // (the MSL friction's `startForward = initial() and w_relfric > 0 or …`
+    // is false at t = 0 in the MSL's reference results; left true, the
+    // integration would start with the breakaway friction). A clause on
+    // initial() does not fire again: its condition only falls.
+    event_time_ = std::numeric_limits<double>::quiet_NaN();
+    const mo::runtime::EventCause after{0.0, {}, false};
+    for (int iteration = 0; iteration < 100; ++iteration)
+      if (!handle_event(after, x0, {}, p).discrete_changed) break;
     event_time_ = std::numeric_limits<double>::quiet_NaN();
   }
   // start and interval of every sample() at the parameters initial_state loaded.

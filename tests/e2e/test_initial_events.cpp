@@ -70,3 +70,22 @@ TEST_CASE("fixed = true on variables that are not states sets the states' initia
     CHECK(std::fabs(s_rel[k] - (1.5 - 0.4 * (1 - e))) < 1e-7);
   }
 }
+
+TEST_CASE("a flag set by initial() outside when-clauses is false again when the integration starts") {
+  auto model = compiled_model("e2e_initial_flag_outside_when",
+                              {{kData + "InitialFlagOutsideWhen.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  std::vector<double> x0(model->info().states.size());
+  model->initial_state(p, x0);
+  CHECK(discrete_value(*model, "kick") == 0.0);
+  const auto grid = runtime::OutputGrid::uniform(0, 2, 20);
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto x = column(r.trajectory, "x");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    INFO("t = " << grid.times[k]);
+    CHECK(std::fabs(x[k] - (1 + grid.times[k])) < 1e-8);
+  }
+  CHECK(discrete_value(*model, "kick") == 0.0);
+}

@@ -64,8 +64,12 @@ const char* kAllVariables = R"(model AllVariables
   Real b "an alias of a";
   Real c "a constant";
   output Real y;
+  Integer n(start = 0) "a discrete variable";
 equation
   der(x) = -a + c;
+  when x < 0.6 then
+    n = pre(n) + 1;
+  end when;
   a = 2*x + sin(a)/10;
   b = a;
   c = 0.5;
@@ -82,7 +86,7 @@ TEST_CASE("result.csv holds every variable of the model by default; --variables 
   INFO(r.err);
   REQUIRE(r.status == 0);
   const Csv all = read_csv(dir / "all" / "result.csv");
-  for (const char* name : {"time", "x", "a", "b", "c", "y"}) {
+  for (const char* name : {"time", "x", "a", "b", "c", "y", "n"}) {
     INFO(name);
     CHECK(all.column(name) < all.names.size());
   }
@@ -90,6 +94,8 @@ TEST_CASE("result.csv holds every variable of the model by default; --variables 
   CHECK(last[all.column("b")] == last[all.column("a")]);  // the alias under its own name
   CHECK(last[all.column("c")] == 0.5);
   CHECK(last[all.column("y")] == Approx(last[all.column("x")] + 1));
+  CHECK(all.rows.front()[all.column("n")] == 0.0);  // as the last event left it: x < 0.6 once
+  CHECK(last[all.column("n")] == 1.0);
 
   const Run f = morun(quoted(mo.string()) + " --stop-time 1 --intervals 10 --aliases --variables 'x|b' -o " +
                           quoted((dir / "some").string()),
