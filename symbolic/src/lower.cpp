@@ -220,9 +220,14 @@ private:
   void report_singular_block(const std::vector<int>& blk) {
     const auto& first = dae_.eqs[at(sys_.eqs[at(blk.front())])];
     diags_.report(frontend::DiagId::StructurallySingular, first.range,
-                  fmt::format("these {} equations are singular: their coefficients are constants and "
-                              "linearly dependent, so they are inconsistent or redundant",
-                              blk.size()));
+                  blk.size() == 1
+                      ? std::string("this equation is singular: the coefficient of its unknown is a "
+                                    "constant 0 once the equations before it are used, so it is "
+                                    "inconsistent with them or redundant")
+                      : fmt::format("these {} equations are singular: their coefficients are "
+                                    "constants and linearly dependent, so they are inconsistent "
+                                    "or redundant",
+                                    blk.size()));
     for (std::size_t i = 1; i < blk.size() && i < 10; ++i)
       diags_.note(dae_.eqs[at(sys_.eqs[at(blk[i])])].range, "one of the dependent equations");
   }

@@ -207,6 +207,8 @@ end Inconsistent;
   CHECK(r.status == 1);
   CHECK(r.err.find("Inconsistent.mo:") != std::string::npos);
   CHECK(r.err.find("error:") != std::string::npos);
+  CHECK(r.err.find("singular") != std::string::npos);
+  CHECK(r.err.find("these 1 equations") == std::string::npos);
   CHECK(r.err.find("no states") == std::string::npos);
 }
 
