@@ -36,6 +36,10 @@ OutputGrid OutputGrid::uniform(double t0, double t_end, std::size_t intervals) {
 
 namespace {
 
+/// How far a held indicator (exactly 0 where the integration started) must
+/// leave 0 to be an event (Simulation::hold_zero_indicators).
+constexpr double kHeldZero = 1e-12;
+
 // --- RAII owners of SUNDIALS objects ----------------------------------------
 
 struct Context {
@@ -129,7 +133,9 @@ private:
   bool set_up();
   void evaluate_inputs(double t);
   void record(double t);
-  bool restart(double t);
+  bool restart(double t, std::span<const int> crossed = {});
+  void hold_zero_indicators(double t, std::span<const int> crossed);
+  void held_crossings(double t, std::vector<int>& roots);
   bool handle_event(double t, std::span<const int> crossings, bool time_event, bool& changed);
   Eigen::MatrixXd sensitivities() const;
   bool apply_jump(double t, detail::SensitivityJump& jump);
@@ -147,6 +153,11 @@ private:
   std::size_t nx_, nu_, ny_, ng_;
   std::vector<double> u_, y_;
   double segment_end_ = 0.0;  // inputs are left limits at t >= segment_end_
+  // Indicators exactly 0 where the integration (re)started: CVODES would take
+  // them as inactive until they leave 0 and report no root then, so they are
+  // given to it as |g| - kHeldZero while held (hold_zero_indicators).
+  std::vector<char> held_;
+  std::vector<double> g_;
 
   SensitivityMethod sens_method_ = SensitivityMethod::none;
   std::vector<int> sens_params_;           // J
@@ -220,7 +231,41 @@ int Simulation::root_callback(double t, N_Vector x, double* g, void* self) {
   sim.evaluate_inputs(t);
   std::span<double> out(g, sim.ng_);
   sim.model_.event_indicators(t, {N_VGetArrayPointer(x), sim.nx_}, sim.u_, sim.p_, out);
+  for (std::size_t i = 0; i < sim.ng_; ++i)
+    if (sim.held_[i]) out[i] = std::abs(out[i]) - kHeldZero;
   return all_finite(out) ? 0 : -1;
+}
+
+// A relation on an indicator that is exactly 0 when the integration starts
+// (a ramp's force from t = 2 in `free = fn <= 0`, a speed at rest) changes
+// value when the indicator leaves 0 without changing sign: Modelica has an
+// event there, CVODES none. Held indicators are watched as |g| - kHeldZero.
+// Not an indicator that crossed at the event just handled: its relations
+// already took the value of the side it crossed to (CVODES may well return
+// the root with g exactly 0), and leaving 0 to that side changes nothing.
+// Left to its other side it is lost, as before. A when-condition `a >= b`
+// on a held indicator leaving 0 upwards fires once more (its value at 0 was
+// already true; the handler takes the value before from the other side).
+void Simulation::hold_zero_indicators(double t, std::span<const int> crossed) {
+  held_.assign(ng_, 0);
+  if (ng_ == 0) return;
+  g_.resize(ng_);
+  inputs_.evaluate(t, u_);  // a segment starts here: right limits
+  model_.event_indicators(t, states(), u_, p_, g_);
+  for (std::size_t i = 0; i < ng_; ++i)
+    held_[i] = g_[i] == 0.0 && (i >= crossed.size() || crossed[i] == 0);
+}
+
+// CVODES reports a held indicator's |g| - kHeldZero rising through 0; the
+// model's crossing direction is the sign g left 0 with.
+void Simulation::held_crossings(double t, std::vector<int>& roots) {
+  bool any = false;
+  for (std::size_t i = 0; i < ng_; ++i) any = any || (held_[i] && roots[i] != 0);
+  if (!any) return;
+  evaluate_inputs(t);
+  model_.event_indicators(t, states(), u_, p_, g_);
+  for (std::size_t i = 0; i < ng_; ++i)
+    if (held_[i] && roots[i] != 0) roots[i] = g_[i] > 0 ? 1 : -1;
 }
 
 void Simulation::error_callback(int code, const char*, const char* function, char* msg,
@@ -362,6 +407,7 @@ bool Simulation::set_up() {
     if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeRootInit", t0), false;
     CVodeSetNoInactiveRootWarn(cv);
   }
+  hold_zero_indicators(t0, {});
 
   if (sens_method_ == SensitivityMethod::cvodes_analytic ||
       sens_method_ == SensitivityMethod::cvodes_difference) {
@@ -450,7 +496,8 @@ void Simulation::harvest_statistics() {
 }
 
 // Re-initialises CVODES at t from the current x (and S): its counters restart.
-bool Simulation::restart(double t) {
+// `crossed`: the crossings of the event just handled (none after a stop).
+bool Simulation::restart(double t, std::span<const int> crossed) {
   harvest_statistics();
   int flag = CVodeReInit(cvode_.mem, t, x_->v);
   if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeReInit", t), false;
@@ -459,6 +506,7 @@ bool Simulation::restart(double t) {
     if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeSensReInit", t), false;
   }
   ++result_.statistics.restarts;
+  hold_zero_indicators(t, crossed);
   return true;
 }
 
@@ -637,6 +685,7 @@ SimulationResult Simulation::run() {
       if (s_) CVodeGetSens(cv, &t_ret, s_->v);
       if (flag == CV_ROOT_RETURN) {
         CVodeGetRootInfo(cv, roots.data());
+        held_crossings(t, roots);
         bool changed = false;
         if (!handle_event(t, roots, false, changed)) {
           record_through(t);
@@ -645,7 +694,7 @@ SimulationResult Simulation::run() {
         // Restart even if nothing discrete changed: a relation in the
         // continuous equations switched at this root, and CVODES' last step
         // (already taken past the root) used the right-hand side of before.
-        if (!restart(t)) return finish();
+        if (!restart(t, roots)) return finish();
         record_through(t);
         break;  // a discrete change may move the next time event
       }
