@@ -228,6 +228,19 @@ int run(const Options& opt, tools::RunContext& ctx) {
       if (!where.empty()) checked.message += "\n  from " + where;
     }
   }
+  using Status = runtime::SimulationStatus;
+  const bool integrator_gave_up =
+      checked.status == Status::too_much_work || checked.status == Status::error_test_failure ||
+      checked.status == Status::convergence_failure || checked.status == Status::rhs_failure;
+  if (integrator_gave_up && result.non_finite_rhs && checked.message.find("\n  from ") == std::string::npos) {
+    // Name the equation of the last non-finite value the integrator met on
+    // its way (a step it tried and rejected): most likely why it gave up.
+    const auto& bad = *result.non_finite_rhs;
+    const std::string where = tools::explain_non_finite(*ode, bad.t, bad.x, bad.u, p, model->discrete());
+    if (!where.empty())
+      checked.message += fmt::format("\n  the right-hand side was not finite at t = {} (a step the "
+                                     "integrator tried), from {}", bad.t, where);
+  }
   fs::create_directories(opt.output);
   runtime::write_csv_atomic((fs::path(opt.output) / "result.csv").string(),
                             tools::select_columns(checked.trajectory, filter));

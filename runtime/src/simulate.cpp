@@ -180,7 +180,12 @@ int Simulation::rhs_callback(double t, N_Vector x, N_Vector xdot, void* self) {
   std::span<double> out(N_VGetArrayPointer(xdot), sim.nx_);
   sim.model_.rhs(t, {N_VGetArrayPointer(x), sim.nx_}, sim.u_, sim.p_, out);
   if (sim.nx_ == 0) N_VGetArrayPointer(xdot)[0] = 0.0;  // the placeholder state of a model without states
-  return all_finite(out) ? 0 : 1;  // recoverable: CVODES retries with a smaller step
+  if (all_finite(out)) return 0;
+  auto& point = sim.result_.non_finite_rhs.emplace();
+  point.t = t;
+  point.x.assign(N_VGetArrayPointer(x), N_VGetArrayPointer(x) + sim.nx_);
+  point.u = sim.u_;
+  return 1;  // recoverable: CVODES retries with a smaller step
 }
 
 int Simulation::jacobian_callback(double t, N_Vector x, N_Vector, SUNMatrix jac, void* self,

@@ -158,6 +158,30 @@ end )" + name + ";\n";
 
 }  // namespace
 
+TEST_CASE("a non-finite derivative met inside the integrator names its equation", "[robust]") {
+  // log(x - 0.5) is -inf at t = 0.5 and NaN after: CVODES rejects the steps
+  // that reach it and stops with too much work, before any output row has
+  // a NaN; the message must still say which equation.
+  const fs::path dir = scratch("robust_log_inside");
+  const fs::path mo = model_file(dir, "LogInside", R"(model LogInside
+  Real x(start = 1);
+  Real v(start = 0);
+equation
+  der(x) = -1;
+  der(v) = log(x - 0.5);
+end LogInside;
+)");
+  const Run r = morun(quoted(mo.string()) + " --stop-time 2 --intervals 20 -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("not finite at t = ") != std::string::npos);
+  CHECK(r.err.find("LogInside.mo:6:3: der(v) = log(x - 0.5);") != std::string::npos);
+  CHECK(r.err.find("with x = ") != std::string::npos);
+  const Csv out = read_csv(dir / "out" / "result.csv");
+  CHECK(all_finite(out));
+  CHECK(slurp(dir / "out" / "summary.json").find("not finite at t = ") != std::string::npos);
+}
+
 TEST_CASE("Newton uses min, max and nominal: the bubble point converges", "[robust]") {
   const fs::path dir = scratch("robust_bubble_bounds");
   const fs::path mo = model_file(dir, "BubbleBounded", bubble_point("BubbleBounded",

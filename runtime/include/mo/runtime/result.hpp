@@ -16,6 +16,7 @@
 
 #include <functional>
 #include <ostream>
+#include <optional>
 #include <span>
 #include <string>
 #include <string_view>
@@ -87,6 +88,12 @@ struct SolverStatistics {
   double wall_time_seconds = 0.0;    ///< whole simulate() call
 };
 
+/// A point where the model's right-hand side gave a value that is not finite.
+struct NonFinitePoint {
+  double t = 0.0;
+  std::vector<double> x, u;  ///< states and inputs there
+};
+
 /// The outcome of simulate().
 struct SimulationResult {
   SimulationStatus status = SimulationStatus::success;  ///< how it ended
@@ -99,6 +106,10 @@ struct SimulationResult {
   std::vector<Eigen::MatrixXd> state_sensitivities;
   /// S_y(t_k), one matrix per trajectory row (rows: outputs, cols: J).
   std::vector<Eigen::MatrixXd> output_sensitivities;
+  /// The last point where the right-hand side was not finite, if any: a step
+  /// CVODES tried and rejected (it then retries with a smaller one). When the
+  /// run fails, the likely cause; the caller can name its equation.
+  std::optional<NonFinitePoint> non_finite_rhs;
 
   /// True if status is success or terminated_by_model.
   [[nodiscard]] bool ok() const {
