@@ -60,7 +60,7 @@ public:
     section_starts();
     for (std::size_t i = 0; i < nx; ++i) x0[i] = w_[static_cast<std::size_t>(start_slots[i])];
     load_samples();
-    if (initial_flag >= 0) initial_event(p, x0);
+    if (initial_flag >= 0 || any_every_event()) initial_event(p, x0);
     if (nsample > 0) sample_event_at_start(p, x0);
   }
 
@@ -304,6 +304,14 @@ private:
     event_time_ = samples_done_ = std::numeric_limits<double>::quiet_NaN();
     lower_samples();
   }
+  // Discrete equations outside when-clauses hold at initialisation too (the
+  // MSL's OnOffController: y = u < reference - bandwidth/2 or pre(y) and …
+  // with pre(y) = false is true at t0 if u starts low).
+  static bool any_every_event() {
+    for (std::size_t k = 0; k < nwhen; ++k)
+      if (when_every_event[k]) return true;
+    return false;
+  }
   // The event at initialisation (t = 0, inputs 0): initial() is 1 and was
   // 0 just before, so the clauses on it fire (in order, each seeing what the
   // earlier ones assigned), then event iteration while discrete values change.
@@ -372,6 +380,7 @@ private:
     event_time_ = std::numeric_limits<double>::quiet_NaN();
   }
   void set_initial(double v) {
+    if (initial_flag < 0) return;  // the model does not read initial()
     const auto i = static_cast<std::size_t>(initial_flag);
     w_[d_slot + i] = w_[pre_d_slot + i] = v;
   }

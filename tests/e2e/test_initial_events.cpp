@@ -89,3 +89,23 @@ TEST_CASE("a flag set by initial() outside when-clauses is false again when the 
   }
   CHECK(discrete_value(*model, "kick") == 0.0);
 }
+
+TEST_CASE("a discrete equation outside when-clauses holds at initialisation: an on-off controller starts on") {
+  auto model = compiled_model("e2e_on_off_start", {{kData + "OnOffStart.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  std::vector<double> x0(model->info().states.size());
+  model->initial_state(p, x0);
+  CHECK(discrete_value(*model, "y") == 1.0);
+  const auto grid = runtime::OutputGrid::uniform(0, 7, 70);
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto T = column(r.trajectory, "T");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const double t = grid.times[k];
+    // up to 26 at t = 6 (the band's top), then down
+    const double exact = t <= 6 ? 20 + t : 26 - (t - 6);
+    INFO("t = " << t);
+    CHECK(std::fabs(T[k] - exact) < 1e-7);
+  }
+}
