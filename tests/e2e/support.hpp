@@ -146,6 +146,23 @@ inline std::vector<double> column(const runtime::ResultTable& table, const std::
   return table.column(name);
 }
 
+/// Simulates `model` at its default parameters on `grid` (tight()), REQUIREs
+/// success and CHECKs column `name` against `exact(t)` to `tolerance` at every
+/// output time. Returns the result (event times, ...).
+template <class Exact>
+runtime::SimulationResult simulate_against_exact(runtime::Model& model, const runtime::OutputGrid& grid,
+                                                 const std::string& name, Exact exact, double tolerance) {
+  const auto r = runtime::simulate(model, {}, model.info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto values = column(r.trajectory, name);
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    INFO(name << " at t = " << grid.times[k]);
+    CHECK(std::fabs(values[k] - exact(grid.times[k])) < tolerance);
+  }
+  return r;
+}
+
 /// max_k |a_k - b_k|.
 inline double max_abs_difference(const std::vector<double>& a, const std::vector<double>& b) {
   REQUIRE(a.size() == b.size());
