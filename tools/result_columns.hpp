@@ -1,7 +1,7 @@
 // Which variables result.csv holds: by default every variable of the flat
 // model (states, algebraic variables, discrete variables, outputs and the
-// variables lowering eliminated, under their flat names), optionally filtered by a regular
-// expression (OpenModelica's variableFilter); and the rows that may be kept
+// variables lowering eliminated, under their flat names), optionally filtered
+// by a regular expression (OpenModelica's variableFilter); and the rows that may be kept
 // after a failure (never a row with NaN or infinity).
 #pragma once
 

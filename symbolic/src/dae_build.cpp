@@ -451,8 +451,9 @@ bool Builder::discrete_initial_assignment(const ast::Equation& eq) {
 /// `pre(v) = expr` (or `expr = pre(v)`) in an initial section, v Boolean,
 /// Integer or discrete. Modelica 3 §8.6: pre(v) at initialisation is the value
 /// before the event at initialisation, an unknown of the initial system that
-/// this equation fixes, as `fixed = true` fixes it to v.start. For a discrete v it sets the value pre(v) (and v
-/// until the event at initialisation) starts from, like a start value:
+/// this equation fixes, as `fixed = true` fixes it to v.start. For a discrete
+/// v it sets the value pre(v) (and v until the event at initialisation)
+/// starts from, like a start value:
 /// evaluated at the parameters' values and t = 0 (MathBoolean.OnDelay's
 /// `pre(t_next) = time - 1`). A v that stays continuous has no
 /// pre() read anywhere (mark_event_equations), so there is nothing to fix and

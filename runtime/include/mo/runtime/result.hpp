@@ -15,8 +15,8 @@
 #include <Eigen/Dense>
 
 #include <functional>
-#include <ostream>
 #include <optional>
+#include <ostream>
 #include <span>
 #include <string>
 #include <string_view>
