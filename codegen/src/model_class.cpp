@@ -43,7 +43,7 @@ const std::array<mo::runtime::Sparsity, 2>& hessian_sparsities() {
 class GeneratedModel final : public mo::runtime::Model {
 public:
   GeneratedModel() : w_(num_slots, 0.0), cross_(ng, 0), reversed_(ng, 0), relations_(ng, 0),
-                     before_(nwhen, 0.0), now_(nwhen, 0.0), fired_(nwhen, 0),
+                     before_(nwhen, 0.0), now_(nwhen, 0.0), fired_(nwhen, 0), init_fired_(nwhen, 0),
                      sample_start_(nsample, 0.0), sample_interval_(nsample, 1.0) {
     reset();
   }
@@ -187,7 +187,10 @@ public:
     } else if (!(cause.t == event_time_)) {
       std::fill(cross_.begin(), cross_.end(), 0);
     }
-    if (fresh || !(cause.t == event_time_)) {
+    // At initialisation the value before is always the condition with
+    // initial() at 0 and the values of this iteration: only a clause that
+    // initial() enables fires there (Modelica 3 §8.6), at most once.
+    if (fresh || !(cause.t == event_time_) || initialising_) {
       for (std::size_t i = 0; i < ng; ++i) reversed_[i] = -cross_[i];
       conditions(reversed_.data(), before_);
     } else {
@@ -206,6 +209,10 @@ public:
     std::fill(fired_.begin(), fired_.end(), 0);
     for (std::size_t k = 0; k < nwhen; ++k) {
       if (when_every_event[k] || now_[k] == 0.0 || before_[k] != 0.0) continue;
+      if (initialising_) {
+        if (init_fired_[k] != 0) continue;
+        init_fired_[k] = 1;
+      }
       fired_[k] = 1;
       fire(k);
       for (int r = when_reinit_start[k]; r < when_reinit_start[k + 1]; ++r) {
@@ -316,6 +323,7 @@ private:
   // 0 just before, so the clauses on it fire (in order, each seeing what the
   // earlier ones assigned), then event iteration while discrete values change.
   void initial_event(std::span<const double> p, std::span<double> x0) {
+    std::fill(init_fired_.begin(), init_fired_.end(), 0);
     initialising_ = true;
     event_time_ = std::numeric_limits<double>::quiet_NaN();
     const mo::runtime::EventCause cause{0.0, {}, false};
@@ -467,6 +475,7 @@ private:
   std::vector<int> cross_, reversed_, relations_;
   std::vector<double> before_, now_;
   std::vector<char> fired_;
+  std::vector<char> init_fired_;  ///< clauses fired in the event at initialisation
   std::vector<double> sample_start_, sample_interval_;
   double samples_done_ = std::numeric_limits<double>::quiet_NaN();  ///< the instant whose ticks were handled
   bool samples_raised_ = false;  ///< some sample() flag is 1 (an instant with ticks is being handled)

@@ -90,3 +90,18 @@ TEST_CASE("a discrete equation outside when-clauses holds at initialisation: an 
   simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 7, 70), "T",
                          [](double t) { return t <= 6 ? 20 + t : 26 - (t - 6); }, 1e-7);
 }
+
+TEST_CASE("a when-clause that initial() does not enable is inactive at initialisation") {
+  auto model = compiled_model("e2e_when_inactive_at_init", {{kData + "WhenInactiveAtInit.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  std::vector<double> x0(model->info().states.size());
+  model->initial_state(p, x0);
+  CHECK(discrete_value(*model, "trig") == 0.0);  // change(u) was true during the initialisation only
+  CHECK(discrete_value(*model, "n") == 0.0);
+  CHECK(discrete_value(*model, "m") == 1.0);     // initial() enables it: once
+  const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1, 10), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  CHECK(discrete_value(*model, "n") == 1.0);  // u falls at t = 0.5
+  CHECK(discrete_value(*model, "m") == 2.0);  // and trig is an element of {initial(), trig}
+}
