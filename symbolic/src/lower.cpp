@@ -297,7 +297,11 @@ private:
       const auto it = map_.find(d.symbol);
       if (d.eliminated || it == map_.end()) continue;
       in.guess[it->second] = start_values_[v];
-      if (d.fixed && !state_[v] && a().symbol_info(it->second).role == SymbolRole::Algebraic)
+      // fixed = true on a variable that is not a state is an initial
+      // equation; so on a state's derivative (the MSL's Inertia
+      // `a(fixed = true)`: a = der(w) became w's derivative variable).
+      const SymbolRole role = a().symbol_info(it->second).role;
+      if (d.fixed && !state_[v] && (role == SymbolRole::Algebraic || role == SymbolRole::Derivative))
         in.fixed_algebraics.emplace_back(it->second, substitute(a(), d.start, map_));
     }
     return in;

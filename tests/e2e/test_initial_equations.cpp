@@ -162,3 +162,16 @@ TEST_CASE("a fixed = true variable that is not a state gives way to a fixed stat
   const std::vector<double> x0 = symbolic::OdeInterpreter(m).initial_state(p);
   CHECK(x0[m.state_index("x").value()] == Approx(1.0).epsilon(1e-14));
 }
+
+TEST_CASE("a fixed = true variable that became a state's derivative is an initial equation") {
+  const auto [ok, text] = lower_text("FixedDerivative");
+  INFO(text);
+  REQUIRE(ok);
+  CHECK(text.find("leave 1 state(s) free") == std::string::npos);
+  const symbolic::OdeModel m = lower_spec({source("FixedDerivative"), {}});
+  std::vector<double> p;
+  for (const auto& par : m.parameters) p.push_back(par.value);
+  const std::vector<double> x0 = symbolic::OdeInterpreter(m).initial_state(p);
+  REQUIRE(x0.size() == 1);
+  CHECK(x0[m.state_index("w").value()] == Approx(2.0).epsilon(1e-14));
+}
