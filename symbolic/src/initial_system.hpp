@@ -22,6 +22,7 @@
 
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "mo/frontend/diagnostics.hpp"
@@ -44,6 +45,8 @@ struct InitialInput {
   std::vector<std::pair<Expr, Expr>> fixed_algebraics;
   /// First Newton guess of an unknown (state, algebraic); 0 when absent.
   std::unordered_map<Expr, double, ExprHash> guess;
+  /// Unknowns whose start attribute was declared (preferred tearing variables).
+  std::unordered_set<Expr, ExprHash> start_given;
   /// Tear the nonlinear blocks (LowerOptions::tearing).
   bool tearing = true;
 };

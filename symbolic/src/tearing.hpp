@@ -16,9 +16,13 @@
 //
 // Choice of the tearing variables, repeated until the torn residuals are
 // finite at the start point (every leaf at its start value, time 0, inputs 0)
-// or eight tries: (1) the equations with the most unknowns left; (2) among
-// their variables, those in most remaining equations; (3) among those, the
-// one after which most equations become solvable for their last unknown.
+// or eight tries: (0) while an unknown with a declared start value is left,
+// only those (as Dymola reads it: a start value is the author's guess for an
+// iteration variable; the MSL's Schmitt trigger gives `r2.i(start = Vps/R2)`
+// so that Newton finds the saturated solution, not the unstable one at 0);
+// (1) the equations with the most unknowns left; (2) among their variables,
+// those in most remaining equations; (3) among those, the one after which
+// most equations become solvable for their last unknown.
 // A try whose torn residuals are not finite (a guess of 0 that makes a
 // thermal voltage 0 and `v/vt` 0/0) marks its tearing variables "avoid" and
 // tries again; a variable to avoid is chosen only when no other remains.
@@ -38,6 +42,9 @@ struct BlockEquations {
   std::vector<Expr> unknowns;        ///< matched to the residuals, same length
   std::vector<double> start;         ///< first Newton guess per unknown
   std::vector<std::string> origins;  ///< per residual, may be empty strings
+  /// Per unknown: a start attribute was declared (the model's author gave a
+  /// guess; preferred as tearing variable). Empty means none was.
+  std::vector<char> start_given;
 };
 
 /// Which variables tearing chose (indices into BlockEquations).
