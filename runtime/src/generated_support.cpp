@@ -134,28 +134,24 @@ bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws) {
   return true;
 }
 
-bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws) {
+namespace {
+
+/// Damped Newton from w[unknowns]; empty on success, else why it failed (the
+/// unknowns hold the last iterate).
+std::string newton(const NonlinearBlock& block, double* w, BlockWorkspace& ws) {
   const auto n = static_cast<Size>(block.size);
   const NewtonOptions& opt = ws.newton;
   prepare(ws, n);
-  for (Size i = 0; i < n; ++i) {  // a NaN left by an earlier failure is no start
-    double& z = w[block.unknowns[i]];
-    z = within_bounds(block, i, std::isfinite(z) ? z : 0.0);
-  }
   block.evaluate(w);
   double norm = residual_norm(block, w);
-  if (!std::isfinite(norm))
-    return fail(block.description, block.unknowns, n, w, ws,
-                "the residuals are not finite at the start guess " + iterate_text(block, w));
+  if (!std::isfinite(norm)) return "the residuals are not finite at the start guess " + iterate_text(block, w);
   for (int iteration = 0; iteration < opt.max_iterations; ++iteration) {
-    if (norm <= opt.residual_tolerance) return true;
+    if (norm <= opt.residual_tolerance) return {};
     assemble(block.entries, block.num_entries, n, w, ws);
     row_scales(block, ws);
     const double merit = scaled_norm(block, w, ws);
     for (Size i = 0; i < n; ++i) ws.b[i] = -w[block.residuals[i]];
-    if (!solve_dense(ws.a, ws.pivots, ws.b))
-      return fail(block.description, block.unknowns, n, w, ws,
-                  fmt::format("singular Jacobian at Newton iteration {}", iteration));
+    if (!solve_dense(ws.a, ws.pivots, ws.b)) return fmt::format("singular Jacobian at Newton iteration {}", iteration);
     bool small_step = true;
     for (Size i = 0; i < n; ++i) {
       ws.z[i] = w[block.unknowns[i]];
@@ -180,17 +176,89 @@ bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws)
       if (trial < (1 - 1e-4 * lambda) * merit) break;
     }
     if (!std::isfinite(trial))
-      return fail(block.description, block.unknowns, n, w, ws,
-                  fmt::format("residuals not finite along the Newton step at iteration {} from {}",
-                              iteration, iterate_text(block, w)));
+      return fmt::format("residuals not finite along the Newton step at iteration {} from {}", iteration,
+                         iterate_text(block, w));
     norm = residual_norm(block, w);
-    if (small_step) return true;
+    if (small_step) return {};
   }
-  if (norm <= opt.residual_tolerance) return true;
-  const std::string last = iterate_text(block, w);
-  return fail(block.description, block.unknowns, n, w, ws,
-              fmt::format("Newton did not converge in {} iterations (max |residual| = {:g} at {})",
-                          opt.max_iterations, norm, last));
+  if (norm <= opt.residual_tolerance) return {};
+  return fmt::format("Newton did not converge in {} iterations (max |residual| = {:g} at {})",
+                     opt.max_iterations, norm, iterate_text(block, w));
+}
+
+/// The residual of a one-unknown block at z (finite or not).
+double scalar_residual(const NonlinearBlock& b, double* w, double z) {
+  w[b.unknowns[0]] = z;
+  b.evaluate(w);
+  return w[b.residuals[0]];
+}
+
+/// A one-unknown block Newton could not solve, by bracketing from z0: points
+/// on both sides, 1e-8 of the scale away and twice as far each time (within
+/// the bounds), until the residual changes sign between two neighbours on
+/// one side; then the Illinois method (regula falsi that halves the weight of
+/// an end kept twice) closes in to rounding. Newton cycles on a residual made
+/// of a steep piece between two flat ones (a limiter in a feedback loop, the
+/// MSL's op-amps); a bracketed sign change is not lost. True with
+/// w[unknown] at the root (or at the jump, for a residual with no root there).
+bool bracket_scalar(const NonlinearBlock& b, double* w, double z0) {
+  const double f0 = scalar_residual(b, w, z0);
+  if (!std::isfinite(f0)) return false;
+  if (f0 == 0.0) return true;
+  const double scale = std::max(nominal_of(b, 0), std::fabs(z0));
+  double lo = 0, flo = 0, hi = 0, fhi = 0;
+  double last[2] = {z0, z0}, f_last[2] = {f0, f0};  // nearest point tried per side
+  bool found = false;
+  for (int k = 0; k < 120 && !found; ++k) {
+    for (int side = 0; side < 2 && !found; ++side) {
+      const double z = within_bounds(b, 0, z0 + (side ? -1.0 : 1.0) * 1e-8 * scale * std::ldexp(1.0, k));
+      if (z == last[side]) continue;  // on a bound
+      const double f = scalar_residual(b, w, z);
+      if (!std::isfinite(f)) continue;
+      if ((f < 0) != (f_last[side] < 0) || f == 0.0) {
+        lo = side ? z : last[side], flo = side ? f : f_last[side];
+        hi = side ? last[side] : z, fhi = side ? f_last[side] : f;
+        found = true;
+      }
+      last[side] = z, f_last[side] = f;
+    }
+  }
+  if (!found) return false;
+  int kept = 0;  // +1: hi was replaced last time, -1: lo was
+  for (int k = 0; k < 400 && flo != 0.0 && fhi != 0.0; ++k) {
+    double z = (lo * fhi - hi * flo) / (fhi - flo);
+    if (!(z > lo && z < hi)) z = lo + (hi - lo) / 2;
+    if (!(z > lo && z < hi)) break;  // no double between them
+    const double f = scalar_residual(b, w, z);
+    if (!std::isfinite(f)) return false;
+    if ((f < 0) == (fhi < 0)) {
+      hi = z, fhi = f;
+      if (kept == 1) flo /= 2;
+      kept = 1;
+    } else {
+      lo = z, flo = f;
+      if (kept == -1) fhi /= 2;
+      kept = -1;
+    }
+  }
+  const double f_lo = scalar_residual(b, w, lo), f_hi = scalar_residual(b, w, hi);
+  if (std::fabs(f_lo) <= std::fabs(f_hi)) scalar_residual(b, w, lo);
+  return true;
+}
+
+}  // namespace
+
+bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws) {
+  const auto n = static_cast<Size>(block.size);
+  for (Size i = 0; i < n; ++i) {  // a NaN left by an earlier failure is no start
+    double& z = w[block.unknowns[i]];
+    z = within_bounds(block, i, std::isfinite(z) ? z : 0.0);
+  }
+  const double z0 = w[block.unknowns[0]];
+  const std::string why = newton(block, w, ws);
+  if (why.empty() || (n == 1 && bracket_scalar(block, w, z0))) return true;
+  if (n == 1) w[block.unknowns[0]] = z0;  // Newton's message names its last iterate
+  return fail(block.description, block.unknowns, n, w, ws, why);
 }
 
 }  // namespace mo::runtime::generated
