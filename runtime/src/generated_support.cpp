@@ -200,8 +200,9 @@ double scalar_residual(const NonlinearBlock& b, double* w, double z) {
 /// an end kept twice) closes in to rounding. Newton cycles on a residual made
 /// of a steep piece between two flat ones (a limiter in a feedback loop, the
 /// MSL's op-amps); a bracketed sign change is not lost. True with
-/// w[unknown] at the root (or at the jump, for a residual with no root there).
-bool bracket_scalar(const NonlinearBlock& b, double* w, double z0) {
+/// w[unknown] at the root; false where the sign changes by a jump (|r| left
+/// above `tolerance` and 1e-9 of its value at z0).
+bool bracket_scalar(const NonlinearBlock& b, double* w, double z0, double tolerance) {
   const double f0 = scalar_residual(b, w, z0);
   if (!std::isfinite(f0)) return false;
   if (f0 == 0.0) return true;
@@ -243,7 +244,7 @@ bool bracket_scalar(const NonlinearBlock& b, double* w, double z0) {
   }
   const double f_lo = scalar_residual(b, w, lo), f_hi = scalar_residual(b, w, hi);
   if (std::fabs(f_lo) <= std::fabs(f_hi)) scalar_residual(b, w, lo);
-  return true;
+  return std::min(std::fabs(f_lo), std::fabs(f_hi)) <= std::max(tolerance, 1e-9 * std::fabs(f0));
 }
 
 }  // namespace
@@ -256,8 +257,7 @@ bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws)
   }
   const double z0 = w[block.unknowns[0]];
   const std::string why = newton(block, w, ws);
-  if (why.empty() || (n == 1 && bracket_scalar(block, w, z0))) return true;
-  if (n == 1) w[block.unknowns[0]] = z0;  // Newton's message names its last iterate
+  if (why.empty() || (n == 1 && bracket_scalar(block, w, z0, ws.newton.residual_tolerance))) return true;
   return fail(block.description, block.unknowns, n, w, ws, why);
 }
 

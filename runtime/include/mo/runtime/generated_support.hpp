@@ -98,7 +98,9 @@ bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws);
 
 /// Solves the nonlinear block by damped Newton from w[unknowns], in units of
 /// the unknowns' nominal values, keeping every iterate within [lower, upper]
-/// (a start outside is moved inside). On failure (singular J, non-finite
+/// (a start outside is moved inside). A one-unknown block Newton fails on is
+/// solved by bracketing a sign change around the start and the Illinois
+/// method (a limiter in a loop makes Newton cycle). On failure (singular J, non-finite
 /// residuals, no convergence) sets the unknowns to NaN, records why (with the
 /// last iterate) in ws.failure unless an earlier block failed first, and
 /// returns false.
