@@ -166,6 +166,7 @@ private:
     var(v).integral = x;
     var(dx).integral = none;
     record(dx, var(v).symbol);
+    inherit_start(v, dx, a_.constant(1.0), a_.constant(0.0));
     return true;
   }
 
@@ -202,6 +203,9 @@ private:
     const int kd = dae_.derivative_of(dae_.var_of(keep));
     const Expr ks = var(kd).symbol;
     eliminate(dd, a_.mul(k, ks), ks, k);
+    // The derivative's start follows too: a mass's v(fixed = true) is the
+    // initial velocity of the relative position that replaced its position.
+    inherit_start(kd, dd, k, a_.constant(0.0));
   }
 
   void record(int v, Expr value) {

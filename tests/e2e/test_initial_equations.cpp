@@ -175,3 +175,11 @@ TEST_CASE("a fixed = true variable that became a state's derivative is an initia
   REQUIRE(x0.size() == 1);
   CHECK(x0[m.state_index("w").value()] == Approx(2.0).epsilon(1e-14));
 }
+
+TEST_CASE("a fixed velocity of a variable replaced by a relative position starts that position's derivative") {
+  // s and v are eliminated for the preferred s_rel; v(fixed = true) must
+  // follow to der(s_rel) (before, it started at 0 and the mass stood still).
+  auto model = compiled_model("e2e_init_relative_states", {source("RelativeStates"), {}});
+  const auto s_rel = [](double t) { return 1 - 0.4 * (1 - std::exp(-25 * t)); };
+  simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 0.2, 40), "s_rel", s_rel, 1e-7);
+}
