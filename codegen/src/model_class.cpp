@@ -192,7 +192,13 @@ public:
     // initial() enables fires there (Modelica 3 §8.6), at most once.
     if (fresh || !(cause.t == event_time_) || initialising_) {
       for (std::size_t i = 0; i < ng; ++i) reversed_[i] = -cross_[i];
+      // The values before the crossing come from the steps too: a condition
+      // on a variable that a relation defines (the MSL's hard stop,
+      // `stopped = if s <= smin then -1 else 0; when stopped <> 0 then`)
+      // sees that relation as before the crossing (the state is past it).
+      if (fresh) run(event_rhs_section, reversed_.data());
       conditions(reversed_.data(), before_);
+      if (fresh) section_steps();
     } else {
       before_ = now_;
     }

@@ -279,3 +279,15 @@ TEST_CASE("a relation whose indicator leaves exactly 0 without a sign change is 
   CHECK(r.event_times[0] == Approx(1.0).epsilon(1e-9));
   CHECK(r.event_times[1] == Approx(1.0).epsilon(1e-9));
 }
+
+TEST_CASE("a when on an Integer a relation defines fires when the relation crosses", "[events][friction]") {
+  // At the root the state is already past the stop, so `stopped` computed
+  // from the values was -1 both before and after: the clause never fired
+  // and the mass went through the stop (the MSL's Translational Friction).
+  auto model = compiled_model("e2e_hard_stop", {{kData + "HardStop.mo", "", {}, true}, {}});
+  const double t1 = 2 * (1 - std::sqrt(0.6));
+  const auto s = [&](double t) { return t < t1 ? -t + 0.25 * t * t : -0.4 + 0.25 * (t - t1) * (t - t1); };
+  const auto r = simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 1, 40), "s", s, 1e-7);
+  REQUIRE(r.event_times.size() >= 1);
+  CHECK(r.event_times.front() == Approx(t1).margin(1e-8));
+}
