@@ -196,7 +196,12 @@ public:
       // on a variable that a relation defines (the MSL's hard stop,
       // `stopped = if s <= smin then -1 else 0; when stopped <> 0 then`)
       // sees that relation as before the crossing (the state is past it).
-      if (fresh) run(event_rhs_section, reversed_.data());
+      // An indicator that only left a held 0 keeps the steps' values (its
+      // relations were at their value at 0 before, not at the other side).
+      if (fresh) {
+        for (std::size_t i = 0; i < ng; ++i) relations_[i] = std::abs(cross_[i]) == 1 ? -cross_[i] : 0;
+        run(event_rhs_section, relations_.data());
+      }
       conditions(reversed_.data(), before_);
       if (fresh) section_steps();
     } else {

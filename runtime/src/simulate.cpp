@@ -270,7 +270,7 @@ void Simulation::held_crossings(double t, std::vector<int>& roots) {
   evaluate_inputs(t);
   model_.event_indicators(t, states(), u_, p_, g_);
   for (std::size_t i = 0; i < ng_; ++i)
-    if (held_[i] && roots[i] != 0) roots[i] = g_[i] > 0 ? 1 : -1;
+    if (held_[i] && roots[i] != 0) roots[i] = g_[i] > 0 ? 2 : -2;  // EventCause: left a held 0
 }
 
 void Simulation::error_callback(int code, const char*, const char* function, char* msg,

@@ -291,3 +291,18 @@ TEST_CASE("a when on an Integer a relation defines fires when the relation cross
   REQUIRE(r.event_times.size() >= 1);
   CHECK(r.event_times.front() == Approx(t1).margin(1e-8));
 }
+
+TEST_CASE("an indicator that leaves a held 0 is no crossing for the values before the event", "[events][friction]") {
+  // After each tick time - pulseStart is exactly 0 and then grows: y was
+  // true at 0 already, so the count must not rise again (it did, once per
+  // tick, when the values before took that relation from the other side).
+  auto model = compiled_model("e2e_pulse_count", {{kData + "PulseCount.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  for (const double stop : {0.75, 1.25, 2.75}) {
+    const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, stop, 10), tight());
+    INFO(r.message);
+    REQUIRE(r.ok());
+    INFO("t = " << stop);
+    CHECK(discrete_value(*model, "count") == std::floor(stop));
+  }
+}

@@ -118,9 +118,11 @@ struct ModelInfo {
 /// What the simulator tells the event handler about why it is called.
 struct EventCause {
   double t = 0.0;  ///< event time
-  /// Per indicator: -1 crossed downwards, +1 upwards, 0 did not cross. Empty
-  /// (all zero) for time events and for event-iteration repeats. At the event
-  /// point g_i ≈ 0, so relations on g_i must take their value from the direction.
+  /// Per indicator: -1 crossed downwards, +1 upwards, 0 did not cross; -2/+2
+  /// left downwards/upwards a value of exactly 0 that it was held at since the
+  /// integration restarted (it did not change sign). Empty (all zero) for time
+  /// events and for event-iteration repeats. At the event point g_i ≈ 0, so
+  /// relations on g_i must take their value from the direction's sign.
   std::span<const int> crossings;
   bool time_event = false;  ///< the time from next_time_event() was reached
 };
