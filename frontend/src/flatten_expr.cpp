@@ -123,22 +123,22 @@ bool Flattener::resolve_instances(const ast::ComponentRef &ref, const Scope &s, 
                                   std::vector<int> &dims, std::vector<Instance *> &out) {
   if (ref.global || !s.inst)
     return false;
-  auto it = s.inst->member_index.find(ref.parts[0].name);
-  if (it == s.inst->member_index.end())
+  Instance *first = member(*s.inst, ref.parts[0].name);
+  if (!first)
     return false;
-  select(*this, it->second, ref.parts[0].subscripts, s, where, dims, out);
+  select(*this, first, ref.parts[0].subscripts, s, where, dims, out);
   for (std::size_t p = 1; p < ref.parts.size(); ++p) {
     std::vector<Instance *> next;
     std::vector<int> sub_dims;
     for (Instance *inst : out) {
-      auto m = inst->member_index.find(ref.parts[p].name);
-      if (m == inst->member_index.end()) {
+      Instance *m = member(*inst, ref.parts[p].name);
+      if (!m) {
         std::string what = inst->var >= 0 ? "a scalar" : "of type '" + (inst->decl ? inst->decl->type.str() : "?") + "'";
         fail(DiagId::UnknownComponent, where,
              "'" + inst->flat + "' (" + what + ") has no component '" + ref.parts[p].name + "'");
       }
       std::vector<int> d;
-      select(*this, m->second, ref.parts[p].subscripts, s, where, d, next);
+      select(*this, m, ref.parts[p].subscripts, s, where, d, next);
       sub_dims = d;
     }
     dims.insert(dims.end(), sub_dims.begin(), sub_dims.end());
@@ -383,12 +383,14 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
           fail(DiagId::TypeMismatch, e.range,
                "'" + inst->flat + "' is a component of type '" + (inst->decl ? inst->decl->type.str() : "?") +
                    "', not a number; only scalar variables can be used in expressions");
-        const flat::Variable &v = model_->variables[inst->var];
-        if (v.variability == ast::Variability::Constant) {
-          t.elems.push_back(literal(eval_param(inst->var, e.range), e.range, v.type != flat::BaseType::Real));
+        // No reference into model_->variables is held across eval_param:
+        // it can instantiate a later element (member()), which adds variables.
+        if (model_->variables[inst->var].variability == ast::Variability::Constant) {
+          const bool integral = model_->variables[inst->var].type != flat::BaseType::Real;
+          t.elems.push_back(literal(eval_param(inst->var, e.range), e.range, integral));
           continue;
         }
-        auto r = ast::make_ref(v.name, e.range);
+        auto r = ast::make_ref(model_->variables[inst->var].name, e.range);
         r->var = inst->var;
         t.elems.push_back(std::move(r));
       }
@@ -683,7 +685,9 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
 double Flattener::eval_param(std::int32_t var, SourceRange where) {
   if (param_state_.size() < model_->variables.size())
     param_state_.resize(model_->variables.size(), 0);
-  flat::Variable &v = model_->variables[var];
+  // Indexed anew after every call that flattens an expression: that can
+  // instantiate a later element (member()) and so grow model_->variables.
+  const flat::Variable &v = model_->variables[var];
   if (v.variability != ast::Variability::Parameter && v.variability != ast::Variability::Constant)
     fail(DiagId::NotConstant, where,
          "'" + v.name + "' is a time-varying variable; a parameter or constant is needed here");
@@ -695,12 +699,16 @@ double Flattener::eval_param(std::int32_t var, SourceRange where) {
     throw Reported{};
   param_state_[var] = 1;
   try {
-    if (!v.binding)
-      v.binding = take_pending(var, "");
+    if (!model_->variables[var].binding) {
+      ExprPtr b = take_pending(var, "");
+      model_->variables[var].binding = std::move(b);
+    }
     const Expr *src = model_->variables[var].binding.get();
     if (!src) {
-      if (!model_->variables[var].attr.start)
-        model_->variables[var].attr.start = take_pending(var, "start");
+      if (!model_->variables[var].attr.start) {
+        ExprPtr b = take_pending(var, "start");
+        model_->variables[var].attr.start = std::move(b);
+      }
       src = model_->variables[var].attr.start.get();
     }
     if (!src)
@@ -848,11 +856,10 @@ ExprPtr Flattener::take_pending(std::int32_t var, const std::string &attribute) 
   if (it == pending_by_var_.end())
     return nullptr;
   for (std::size_t i : it->second) {
-    PendingBinding &p = pending_[i];
-    if (p.attribute == attribute && p.mod.binding) {
-      ExprPtr e = binding_expr(p.mod);
-      p.mod.binding = nullptr; // consumed: phase 2 skips it
-      return e;
+    if (pending_[i].attribute == attribute && pending_[i].mod.binding) {
+      const Modifier mod = pending_[i].mod; // binding_expr may grow pending_ (member())
+      pending_[i].mod.binding = nullptr;    // consumed: phase 2 skips it
+      return binding_expr(mod);
     }
   }
   return nullptr;

@@ -137,6 +137,22 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
                   "this algorithm section is not supported: only assignments (and when-statements of "
                   "them) that assign each variable once, before any statement reads it, are");
   const Modifier own = own_redeclarations(inst, cls);
+  // This class's components, until its loop below has instantiated them,
+  // can be looked up early (member()): by its bases' modifiers and
+  // redeclarations, and by siblings' modifiers.
+  std::vector<std::pair<const Instance *, std::string>> registered;
+  for (const auto &c : def.components)
+    if (!c.redeclare && later_members_.emplace(std::pair<const Instance *, std::string>{&inst, c.name},
+                                              LaterMember{&c, cls, &mod, depth}).second)
+      registered.emplace_back(&inst, c.name);
+  struct Unregister {
+    std::map<std::pair<const Instance *, std::string>, LaterMember> &map;
+    std::vector<std::pair<const Instance *, std::string>> &keys;
+    ~Unregister() {
+      for (const auto &k : keys)
+        map.erase(k);
+    }
+  } unregister{later_members_, registered};
   replace_classes(inst, mod);
   for (auto &[ext, base] : bases(cls)) {
     // A class inherited along two paths is instantiated once: its elements
@@ -182,28 +198,19 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
                       "'" + c->name + "' is redeclared but no base class declares it");
       continue;
     }
+    if (auto it = later_members_.find({&inst, c->name}); it != later_members_.end() && it->second.comp == c) {
+      if (it->second.started)
+        continue; // instantiated when an earlier element looked it up
+      it->second.started = true;
+    }
     if (auto it = inst.member_index.find(c->name); it != inst.member_index.end()) {
       diags_.report(DiagId::DuplicateDeclaration, c->range, "duplicate declaration of '" + c->name + "'");
       if (it->second->decl)
         diags_.note(it->second->decl->range, "previous declaration is here");
       continue;
     }
-    if (auto it = mod.sub.find(c->name); it != mod.sub.end() && it->second.redecl_component) {
-      try {
-        instantiate_redeclared(inst, *c, cls, it->second, depth);
-      } catch (Reported &) {
-      }
-      continue;
-    }
-    Modifier cmod = make_modifier(c->mod, &inst, cls);
-    if (auto it = mod.sub.find(c->name); it != mod.sub.end()) {
-      if (c->final_ && !it->second.empty())
-        diags_.report(DiagId::UnknownModifier, it->second.range,
-                      "'" + c->name + "' is final and cannot be modified");
-      merge_into(cmod, it->second);
-    }
     try {
-      instantiate_component(inst, *c, cls, std::move(cmod), depth);
+      instantiate_member(inst, *c, cls, mod, depth);
     } catch (Reported &) {
     }
   }
@@ -216,6 +223,34 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   for (const auto &alg : def.model_algorithms)
     inst.algorithms.emplace_back(&alg, cls);
   class_stack_.pop_back();
+}
+
+void Flattener::instantiate_member(Instance &inst, const ast::Component &c, ClassNode *cls, const Modifier &mod,
+                                   unsigned depth) {
+  if (auto it = mod.sub.find(c.name); it != mod.sub.end() && it->second.redecl_component) {
+    instantiate_redeclared(inst, c, cls, it->second, depth);
+    return;
+  }
+  Modifier cmod = make_modifier(c.mod, &inst, cls);
+  if (auto it = mod.sub.find(c.name); it != mod.sub.end()) {
+    if (c.final_ && !it->second.empty())
+      diags_.report(DiagId::UnknownModifier, it->second.range, "'" + c.name + "' is final and cannot be modified");
+    merge_into(cmod, it->second);
+  }
+  instantiate_component(inst, c, cls, std::move(cmod), depth);
+}
+
+Instance *Flattener::member(Instance &inst, const std::string &name) {
+  if (auto it = inst.member_index.find(name); it != inst.member_index.end())
+    return it->second;
+  auto later = later_members_.find({&inst, name});
+  if (later == later_members_.end() || later->second.started)
+    return nullptr;
+  LaterMember m = later->second;
+  later->second.started = true; // a cycle (a binding that needs its own element) finds nothing
+  instantiate_member(inst, *m.comp, m.cls, *m.mod, m.depth);
+  auto it = inst.member_index.find(name);
+  return it == inst.member_index.end() ? nullptr : it->second;
 }
 
 Instance *Flattener::find_inner(const Instance &from, const std::string &name) {

@@ -195,6 +195,26 @@ public:
   void make_elements(Instance &inst, const ast::Component &comp, const ResolvedType &rt,
                      const Modifier &mod, unsigned depth);
   void check_modifier_names(const Instance &inst, const Modifier &mod);
+  /// Instantiates `c`, declared in `cls`, as a member of `inst` under the
+  /// instance's modifiers `mod` (a redeclaration in `mod` replaces it).
+  void instantiate_member(Instance &inst, const ast::Component &c, ClassNode *cls, const Modifier &mod,
+                          unsigned depth);
+  /// The member `name` of `inst`, or null. A component that `inst`'s class
+  /// declares but has not reached yet is instantiated now: Modelica lets a
+  /// base class's redeclaration use an element the derived class declares
+  /// (`redeclare ThermalPort p(final useDamperCage = useDamperCage)`), and
+  /// two siblings' modifiers use each other's members (`start(reset =
+  /// {stop.on})`, `stop(reset = {start.on})`).
+  Instance *member(Instance &inst, const std::string &name);
+  struct LaterMember {
+    const ast::Component *comp;
+    ClassNode *cls;
+    const Modifier *mod; ///< the instance's modifiers, alive while its class is instantiated
+    unsigned depth;
+    bool started = false;
+  };
+  /// Components of instances under construction, by instance and name.
+  std::map<std::pair<const Instance *, std::string>, LaterMember> later_members_;
   /// The `inner` element `name` of the nearest instance enclosing `from`, or null.
   Instance *find_inner(const Instance &from, const std::string &name);
 
