@@ -134,6 +134,15 @@ private:
   void evaluate_inputs(double t);
   void record(double t);
   bool restart(double t, std::span<const int> crossed = {});
+  /// True if one of the indicators with a nonzero entry in `roots` enters
+  /// the right-hand side (ModelInfo::indicator_in_rhs), or left a held 0
+  /// (±2: restart() releases the hold).
+  [[nodiscard]] bool crosses_rhs(std::span<const int> roots) const {
+    const auto& in_rhs = info_.indicator_in_rhs;
+    for (std::size_t i = 0; i < roots.size(); ++i)
+      if (roots[i] != 0 && (std::abs(roots[i]) != 1 || i >= in_rhs.size() || in_rhs[i])) return true;
+    return false;
+  }
   void hold_zero_indicators(double t, std::span<const int> crossed);
   void held_crossings(double t, std::vector<int>& roots);
   bool handle_event(double t, std::span<const int> crossings, bool time_event, bool& changed);
@@ -699,7 +708,11 @@ SimulationResult Simulation::run() {
         // Restart even if nothing discrete changed: a relation in the
         // continuous equations switched at this root, and CVODES' last step
         // (already taken past the root) used the right-hand side of before.
-        if (!restart(t, roots)) return finish();
+        // Not when nothing changed and no crossed indicator enters the
+        // right-hand side: a restart (order 1, a tiny first step) per root
+        // of an indicator that stays at 0 ± rounding (a switch's quench test
+        // `abs(i) <= abs(v)*Goff or pre(quenched)`) costs accuracy.
+        if ((changed || s_ || crosses_rhs(roots)) && !restart(t, roots)) return finish();
         record_through(t);
         break;  // a discrete change may move the next time event
       }

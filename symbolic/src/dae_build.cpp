@@ -326,6 +326,7 @@ private:
   bool discrete_initial_assignment(const ast::Equation& eq);
   bool initial_pre(const ast::Equation& eq);
   void if_equation(const ast::Equation& eq);
+  std::optional<std::vector<Expr>> if_residuals(const ast::Equation& eq);
   void when_equation(const ast::Equation& eq);
   void when_clause(const ast::Expr& condition, const ast::EquationBranch& branch);
   void outputs();
@@ -488,17 +489,42 @@ bool Builder::initial_pre(const ast::Equation& eq) {
 }
 
 void Builder::if_equation(const ast::Equation& eq) {
+  const std::optional<std::vector<Expr>> rs = if_residuals(eq);
+  if (!rs) return;
+  for (const Expr r : *rs) {
+    DaeEq e;
+    e.residual = r;
+    e.range = eq.range;
+    dae_.eqs.push_back(e);
+  }
+}
+
+/// The residuals of an if-equation with a time-varying condition (Modelica 3
+/// §8.3.4): equation i of every branch, as `lhs - rhs`, becomes
+/// `select(c1, r1_i, select(c2, r2_i, ... r_else_i))`. A nested if-equation
+/// contributes its own residuals in place (IdealSwitchWithArc's `if off then
+/// if quenched then ... else ... end if; else ... end if`); asserts are
+/// skipped as elsewhere. Every branch must have as many equations and there
+/// must be an else branch. Returns nullopt after a diagnostic.
+std::optional<std::vector<Expr>> Builder::if_residuals(const ast::Equation& eq) {
   std::vector<std::vector<Expr>> branch_residuals;
   for (const auto& br : eq.branches) {
     std::vector<Expr> rs;
     for (const ast::Equation& s : br.body) {
-      if (s.kind != ast::EquationKind::Simple) {
+      if (s.kind == ast::EquationKind::Simple) {
+        rs.push_back(dae_.arena.sub(conv_->convert(*s.lhs), conv_->convert(*s.rhs)));
+      } else if (s.kind == ast::EquationKind::If) {
+        const std::optional<std::vector<Expr>> inner = if_residuals(s);
+        if (!inner) return std::nullopt;
+        rs.insert(rs.end(), inner->begin(), inner->end());
+      } else if (s.kind == ast::EquationKind::Call && s.lhs->ref.str() == "assert") {
+        continue;
+      } else {
         error(DiagId::UnsupportedInLowering, s.range,
-              "only simple equations are supported inside an if-equation with a "
-              "time-varying condition");
-        return;
+              "only equations `lhs = rhs` and if-equations are supported inside an "
+              "if-equation with a time-varying condition");
+        return std::nullopt;
       }
-      rs.push_back(dae_.arena.sub(conv_->convert(*s.lhs), conv_->convert(*s.rhs)));
     }
     branch_residuals.push_back(std::move(rs));
   }
@@ -508,17 +534,16 @@ void Builder::if_equation(const ast::Equation& eq) {
       error(DiagId::UnsupportedInLowering, eq.range,
             "an if-equation with a time-varying condition needs an else branch and the "
             "same number of equations in every branch");
-      return;
+      return std::nullopt;
     }
+  std::vector<Expr> out;
   for (std::size_t i = 0; i < branch_residuals.front().size(); ++i) {
     Expr r = branch_residuals.back()[i];
     for (std::size_t b = eq.branches.size() - 1; b-- > 0;)
       r = dae_.arena.select(conv_->convert(*eq.branches[b].condition), branch_residuals[b][i], r);
-    DaeEq e;
-    e.residual = r;
-    e.range = eq.range;
-    dae_.eqs.push_back(e);
+    out.push_back(r);
   }
+  return out;
 }
 
 /// `when {c1, c2, ...}` fires when any element becomes true (Modelica 3

@@ -3,6 +3,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "alias.hpp"
@@ -276,12 +277,16 @@ private:
       if (const auto* as = std::get_if<Assignment>(&s)) roots.push_back(as->value);
       else for (Expr r : std::get<EquationBlock>(s).residuals) roots.push_back(r);
     }
+    std::vector<Expr> in_steps;
+    collect_zero_crossings(a(), roots, in_steps);
     for (const auto& w : out.whens) {
       roots.push_back(w.condition);
       if (w.every_event)  // a change of its relations between events is an event
         for (const auto& s : w.assignments) roots.push_back(s.value);
     }
     collect_zero_crossings(a(), roots, out.zero_crossings);
+    for (Expr g : out.zero_crossings)
+      out.zero_crossing_in_steps.push_back(std::find(in_steps.begin(), in_steps.end(), g) != in_steps.end());
   }
 
   /// The initial equations, fixed algebraic variables and Newton guesses over

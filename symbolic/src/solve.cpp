@@ -1,6 +1,7 @@
 // BLT blocks to steps, and zero-crossing collection; see solve.hpp.
 #include "solve.hpp"
 
+#include <unordered_map>
 #include <unordered_set>
 
 #include "mo/symbolic/differentiate.hpp"
@@ -17,7 +18,34 @@ bool mentions_any(const ExprArena& a, Expr e, const std::unordered_set<Expr, Exp
   return false;
 }
 
+/// True for kinds whose value jumps (or is flat) where the operand varies: an
+/// equation through which the unknown passes such a node is not affine in it,
+/// whatever its derivative says.
+bool breaks_affinity(ExprKind k) {
+  switch (k) {
+    case ExprKind::Lt: case ExprKind::Le: case ExprKind::Gt: case ExprKind::Ge:
+    case ExprKind::Eq: case ExprKind::Ne: case ExprKind::Sign: case ExprKind::Floor:
+    case ExprKind::Ceil:
+      return true;
+    default:
+      return false;
+  }
+}
+
 }  // namespace
+
+bool discontinuous_in(const ExprArena& a, Expr r, std::span<const Expr> vars) {
+  const std::unordered_set<Expr, ExprHash> z(vars.begin(), vars.end());
+  std::unordered_map<Expr, bool, ExprHash> depends;
+  for (Expr e : topological_order(a, std::span(&r, 1))) {
+    bool d = z.contains(e);
+    if (!a.is_leaf(e))
+      for (std::size_t i = 0; i < arity(a.kind(e)); ++i) d = d || depends.at(a.operand(e, i));
+    if (d && breaks_affinity(a.kind(e))) return true;
+    depends.emplace(e, d);
+  }
+  return false;
+}
 
 Step solve_block(ExprArena& a, const std::vector<Expr>& residuals,
                  const std::vector<Expr>& unknowns, const std::vector<double>& start) {
@@ -37,6 +65,9 @@ Step solve_block(ExprArena& a, const std::vector<Expr>& residuals,
       b.linear = b.linear && !mentions_any(a, d, z);
       b.jacobian.push_back({i, j, d});
     }
+    // sign(i), a relation on i: a zero derivative, yet r is not affine and
+    // its value at z = 0 is no offset (IdealSwitchWithArc's v - Varc*sign(i)).
+    b.linear = b.linear && !discontinuous_in(a, r, unknowns);
   }
   if (b.linear && unknowns.size() == 1 && b.jacobian.size() == 1) {
     const Expr offset = substitute(a, residuals[0], zero);

@@ -18,42 +18,6 @@ namespace {
 
 constexpr int kMaxTries = 8;
 
-/// True for kinds whose value jumps (or is flat) where the operand varies: an
-/// equation through which the unknown passes such a node is not affine in it,
-/// whatever its derivative says.
-bool breaks_affinity(ExprKind k) {
-  switch (k) {
-    case ExprKind::Lt: case ExprKind::Le: case ExprKind::Gt: case ExprKind::Ge:
-    case ExprKind::Eq: case ExprKind::Ne: case ExprKind::Sign: case ExprKind::Floor:
-    case ExprKind::Ceil:
-      return true;
-    case ExprKind::Constant: case ExprKind::Symbol: case ExprKind::Der: case ExprKind::Pre:
-    case ExprKind::Add: case ExprKind::Sub: case ExprKind::Mul: case ExprKind::Div:
-    case ExprKind::Neg: case ExprKind::Pow: case ExprKind::Sin: case ExprKind::Cos:
-    case ExprKind::Tan: case ExprKind::Asin: case ExprKind::Acos: case ExprKind::Atan:
-    case ExprKind::Atan2: case ExprKind::Sinh: case ExprKind::Cosh: case ExprKind::Tanh:
-    case ExprKind::Exp: case ExprKind::Log: case ExprKind::Log10: case ExprKind::Sqrt:
-    case ExprKind::Abs: case ExprKind::Min: case ExprKind::Max: case ExprKind::Select:
-    case ExprKind::And: case ExprKind::Or: case ExprKind::Not: case ExprKind::NoEvent:
-    case ExprKind::Smooth:
-      return false;
-  }
-  return false;
-}
-
-/// True if some node of `r` that depends on `v` is a relation or a step function.
-bool discontinuous_in(const ExprArena& a, Expr r, Expr v) {
-  std::unordered_map<Expr, bool, ExprHash> depends;
-  for (Expr e : topological_order(a, std::span(&r, 1))) {
-    bool d = e == v;
-    if (!a.is_leaf(e))
-      for (std::size_t i = 0; i < arity(a.kind(e)); ++i) d = d || depends.at(a.operand(e, i));
-    if (d && breaks_affinity(a.kind(e))) return true;
-    depends.emplace(e, d);
-  }
-  return false;
-}
-
 /// The state of one try: which unknowns are known, which equations are done.
 struct TryState {
   std::vector<char> known, done;
@@ -112,7 +76,7 @@ private:
   /// finite and nonzero at the parameters' values (so that solving for v
   /// divides by no quantity that may vanish during a simulation).
   std::optional<Expr> coefficient(Expr r, Expr v) {
-    if (discontinuous_in(a_, r, v)) return std::nullopt;
+    if (discontinuous_in(a_, r, std::span(&v, 1))) return std::nullopt;
     const Expr d = derivative(a_, r, v);
     if (a_.is_constant(d)) {
       const double c = a_.constant_value(d);

@@ -100,6 +100,9 @@ struct ModelInfo {
   std::vector<Parameter> parameters;   ///< p
   std::vector<Variable> discrete;      ///< d (Real, Integer and Boolean alike, as double)
   std::size_t num_event_indicators = 0;  ///< ng
+  /// Per indicator: false if no relation on it enters the right-hand side
+  /// (it only feeds when-conditions and discrete equations); empty: all do.
+  std::vector<bool> indicator_in_rhs;
 
   /// Index of the state named `name`, or nullopt.
   [[nodiscard]] std::optional<std::size_t> state_index(std::string_view name) const;

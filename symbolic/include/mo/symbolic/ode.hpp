@@ -169,6 +169,11 @@ struct OdeModel {
   std::vector<Step> initial_steps;
   std::vector<OdeAlgebraic> initial_unknowns;  ///< the symbols initial_steps assign
   std::vector<Expr> zero_crossings; ///< event indicators: sign changes are events
+  /// Per zero crossing: true if a relation on it appears in `steps` (the
+  /// right-hand side). One that only when-conditions and discrete equations
+  /// read changes nothing continuous when it crosses, and an event at it
+  /// that changes no discrete value needs no restart of the integrator.
+  std::vector<bool> zero_crossing_in_steps;
   std::vector<WhenClause> whens;
   /// Index into `discrete` of the flag `initial()` reads, or -1 when the
   /// model does not call initial(). The flag is 0 except during the event at
