@@ -677,6 +677,7 @@ SimulationResult Simulation::run() {
   const std::vector<double> breakpoints = inputs_.breakpoints(t0, t_end);
   std::size_t next_bp = 0;
   std::vector<int> roots(ng_);
+  bool continued = false;  // the last root was passed over without a restart
   void* cv = cvode_.mem;
   double t = t0;
   while (next_out < times.size()) {
@@ -691,6 +692,15 @@ SimulationResult Simulation::run() {
       double t_out = std::min(times[next_out], t_stop);
       double t_ret = t;
       int flag = CVode(cv, t_out, x_->v, &t_ret, CV_NORMAL);
+      // Continued past a root without a restart, CVODES refuses an indicator
+      // that is exactly 0 there and just after (CV_ILL_INPUT, "Root found at
+      // and very near"): a restart makes it inactive until it leaves 0.
+      if (flag == CV_ILL_INPUT && continued) {
+        continued = false;
+        if (!restart(t, roots)) return finish();
+        continue;
+      }
+      continued = false;
       if (flag < 0) {
         fail_cvode(flag, "CVode", t_ret);
         return finish();
@@ -712,7 +722,11 @@ SimulationResult Simulation::run() {
         // right-hand side: a restart (order 1, a tiny first step) per root
         // of an indicator that stays at 0 ± rounding (a switch's quench test
         // `abs(i) <= abs(v)*Goff or pre(quenched)`) costs accuracy.
-        if ((changed || s_ || crosses_rhs(roots)) && !restart(t, roots)) return finish();
+        if (changed || s_ || crosses_rhs(roots)) {
+          if (!restart(t, roots)) return finish();
+        } else {
+          continued = true;
+        }
         record_through(t);
         break;  // a discrete change may move the next time event
       }
