@@ -214,6 +214,18 @@ public:
     } else if (!(cause.t == samples_done_) && raise_samples(cause.t)) {
       section_steps();
     }
+    // The discrete equations outside when-clauses belong to this iteration's
+    // system, so a when-condition sees their new values: `when edge(off)`
+    // with `off = not control` fires in the iteration where off changes
+    // (the next one has pre(off) = off, and the edge would be lost).
+    solve_mixed();
+    if (initialising_) {  // the value before: this iteration's values, initial() at 0
+      set_initial(0.0);
+      section_steps();
+      conditions(reversed_.data(), before_);
+      set_initial(1.0);
+      section_steps();
+    }
     conditions(cross_.data(), now_);
     mo::runtime::EventResponse response;
     double* w = w_.data();

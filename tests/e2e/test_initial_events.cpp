@@ -105,3 +105,12 @@ TEST_CASE("a when-clause that initial() does not enable is inactive at initialis
   CHECK(discrete_value(*model, "n") == 1.0);  // u falls at t = 0.5
   CHECK(discrete_value(*model, "m") == 2.0);  // and trig is an element of {initial(), trig}
 }
+
+TEST_CASE("a when-clause on the edge of a discrete equation's variable fires in the iteration it changes") {
+  auto model = compiled_model("e2e_edge_of_discrete", {{kData + "EdgeOfDiscrete.mo", "", {}, true}, {}});
+  const auto grid = runtime::OutputGrid::uniform(0, 1, 20);
+  simulate_against_exact(*model, grid, "x", [](double t) { return t < 0.5 ? 0.0 : (t - 0.5) * (t - 0.5) / 2; },
+                         1e-8);
+  CHECK(discrete_value(*model, "tSwitch") == Approx(0.5).margin(1e-12));
+  CHECK(discrete_value(*model, "count") == 1.0);
+}
