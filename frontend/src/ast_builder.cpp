@@ -254,6 +254,7 @@ void AstBuilder::component_clause(P::Component_clauseContext *ctx, ClassDef &cls
     if (decl->condition_attribute())
       c.condition = expression(decl->condition_attribute()->expression());
     c.description = comment(decl->comment());
+    c.evaluate = evaluate_annotation(decl->comment());
     cls.components.push_back(std::move(c));
   }
 }
@@ -385,6 +386,7 @@ std::unique_ptr<Component> AstBuilder::component_clause1(P::Component_clause1Con
       declaration(ctx->type_prefix(), type_specifier(ctx->type_specifier()), d1->declaration(), nullptr));
   c->redeclare = true;
   c->description = comment(d1->comment());
+  c->evaluate = evaluate_annotation(d1->comment());
   return c;
 }
 
@@ -401,6 +403,17 @@ std::string AstBuilder::string_comment(P::String_commentContext *ctx) {
 
 std::string AstBuilder::comment(P::CommentContext *ctx) {
   return ctx ? string_comment(ctx->string_comment()) : std::string();
+}
+
+bool AstBuilder::evaluate_annotation(P::CommentContext *ctx) {
+  if (!ctx || !ctx->annotation())
+    return false;
+  const Modification m = class_modification(ctx->annotation()->class_modification());
+  for (const auto &arg : m.args)
+    if (arg.path.size() == 1 && arg.path[0] == "Evaluate" && arg.mod.binding &&
+        arg.mod.binding->kind == ExprKind::Boolean)
+      return arg.mod.binding->number != 0.0;
+  return false;
 }
 
 std::vector<ForIndex> AstBuilder::for_indices(P::For_indicesContext *ctx) {

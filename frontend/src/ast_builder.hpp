@@ -60,6 +60,8 @@ private:
   ast::ClassPtr short_class_definition(P::Short_class_definitionContext *ctx);
   std::string string_comment(P::String_commentContext *ctx);
   std::string comment(P::CommentContext *ctx);
+  /// True for `annotation(..., Evaluate = true, ...)` in a declaration's comment.
+  bool evaluate_annotation(P::CommentContext *ctx);
 
   ast::Equation equation(P::EquationContext *ctx);
   ast::Equation constraint(P::ConstraintContext *ctx);

@@ -177,6 +177,7 @@ private:
     }
     if (v.binding) s += " = " + ex(*v.binding);
     if (!v.description.empty()) s += " \"" + ast::escape_string(v.description) + "\"";
+    if (v.evaluate) s += " annotation(Evaluate = true)";
     out_ += s + ";\n";
   }
 

@@ -423,6 +423,7 @@ void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifi
   v.top_level_input = inst.causality == ast::Causality::Input && inst.parent == top_.get() &&
                       inst.flat.find('.') == std::string::npos;
   v.description = inst.decl ? inst.decl->description : "";
+  v.evaluate = inst.decl && inst.decl->evaluate && v.variability == Variability::Parameter;
   v.range = inst.decl ? inst.decl->range : SourceRange{};
   if (model_->find(v.name) >= 0)
     fail(DiagId::DuplicateDeclaration, v.range, "two components flatten to the same name '" + v.name + "'");

@@ -201,7 +201,10 @@ private:
       error(DiagId::UnsupportedInLowering, v.range, "String variables cannot be lowered");
       s = {Slot::Value, none, dae_.arena.constant(0.0)};
     } else if (v.variability == ast::Variability::Constant ||
-               (v.variability == ast::Variability::Parameter && v.type != flat::BaseType::Real)) {
+               (v.variability == ast::Variability::Parameter &&
+                (v.type != flat::BaseType::Real || (v.evaluate && v.value)))) {
+      // Evaluate = true: a structural value, used as a constant (the MSL's
+      // HeatingNPN_OrGate sets every capacitance to CapVal = 0 so).
       s = {Slot::Value, none, dae_.arena.constant(v.value.value_or(0.0))};
     } else if (v.variability == ast::Variability::Parameter) {
       declare_parameter(i, info);

@@ -127,3 +127,13 @@ TEST_CASE("a nested if-equation under varying conditions switches closed, arc, q
   CHECK(r.statistics.restarts < 10);
   CHECK(r.event_times[0] == Approx(t_q).margin(1e-7));
 }
+
+TEST_CASE("a parameter with annotation(Evaluate = true) is structural: C = 0 leaves no capacitor state") {
+  // tests/e2e/data/EvaluatedCapacitance.mo
+  auto model = compiled_model("e2e_evaluated_capacitance",
+                              {{kData + "EvaluatedCapacitance.mo", "", {}, true}, {}});
+  CHECK(model->info().states.empty());
+  for (const auto& q : model->info().parameters) CHECK(q.name != "CapVal");
+  simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 2, 20), "v",
+                         [](double t) { return 2 * std::sin(t); }, 1e-12);
+}

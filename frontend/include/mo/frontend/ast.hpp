@@ -153,6 +153,10 @@ struct Component {
   Modification mod;
   ExprPtr condition;
   std::string description;
+  /// `annotation(Evaluate = true)`: a parameter whose value is structural
+  /// (the lowering uses it as a constant, so `CapVal*der(v)` with CapVal = 0
+  /// drops der(v)).
+  bool evaluate = false;
   /// `replaceable ... constrainedby T(mods)`: the constraining type's
   /// modifiers, which a redeclaration keeps instead of `mod` (MLS 7.3.2).
   bool has_constraint = false;

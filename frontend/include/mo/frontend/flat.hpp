@@ -37,6 +37,7 @@ struct Variable {
   Attributes attr;
   std::string description;
   SourceRange range;            ///< the declaration in the source
+  bool evaluate = false;        ///< parameters: `annotation(Evaluate = true)`, a structural value
   bool is_unknown() const {
     return (variability == ast::Variability::Continuous ||
             variability == ast::Variability::Discrete) && !top_level_input;
