@@ -214,8 +214,8 @@ void Flattener::flatten_equations(Instance &top) {
                   "constraint sections are only allowed in optimization classes");
   for (std::int32_t i = 0; i < static_cast<std::int32_t>(model_->variables.size()); ++i) {
     const flat::Variable &v = model_->variables[i];
-    if (v.variability != ast::Variability::Parameter)
-      continue;
+    if (v.variability != ast::Variability::Parameter || v.type == flat::BaseType::String)
+      continue; // a String has no number to evaluate to (eval_string compares them)
     if (i < static_cast<std::int32_t>(param_state_.size()) && param_state_[i] == 3)
       continue; // its binding already has an error
     if (!v.binding && !v.attr.start) {

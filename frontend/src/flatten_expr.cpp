@@ -738,6 +738,10 @@ double Flattener::eval(const Expr &e, SourceRange where) {
     return e.op == Op::Neg ? -a : e.op == Op::Not ? (a == 0) : a;
   }
   case ExprKind::Binary: {
+    if (e.op == Op::Eq || e.op == Op::Ne)
+      if (const auto sa = eval_string(*e.args[0], where))
+        if (const auto sb = eval_string(*e.args[1], where))
+          return (*sa == *sb) == (e.op == Op::Eq);
     double a = eval(*e.args[0], where), b = eval(*e.args[1], where);
     switch (e.op) {
     case Op::Add: case Op::ElemAdd: return a + b;
@@ -810,6 +814,33 @@ double Flattener::eval(const Expr &e, SourceRange where) {
     break;
   }
   fail(DiagId::NotConstant, where, "expression cannot be evaluated to a number");
+}
+
+std::optional<std::string> Flattener::eval_string(const Expr &e, SourceRange where, unsigned depth) {
+  if (depth > 64)
+    return std::nullopt;
+  switch (e.kind) {
+  case ExprKind::String:
+    return e.text;
+  case ExprKind::Ref: {
+    if (e.var < 0 || model_->variables[e.var].type != flat::BaseType::String ||
+        model_->variables[e.var].variability == ast::Variability::Continuous)
+      return std::nullopt;
+    if (!model_->variables[e.var].binding) {
+      ExprPtr b = take_pending(e.var, "");
+      model_->variables[e.var].binding = std::move(b);
+    }
+    const Expr *b = model_->variables[e.var].binding.get();
+    return b ? eval_string(*b, where, depth + 1) : std::nullopt;
+  }
+  case ExprKind::If:
+    for (std::size_t i = 0; i + 1 < e.args.size(); i += 2)
+      if (eval(*e.args[i], where) != 0)
+        return eval_string(*e.args[i + 1], where, depth + 1);
+    return eval_string(*e.args.back(), where, depth + 1);
+  default:
+    return std::nullopt;
+  }
 }
 
 long long Flattener::eval_int(const Expr &e, const Scope &s) {

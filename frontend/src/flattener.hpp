@@ -11,6 +11,7 @@
 #include "mo/frontend/flatten.hpp"
 
 #include <map>
+#include <optional>
 #include <memory>
 #include <set>
 #include <unordered_map>
@@ -255,6 +256,10 @@ public:
   ast::ExprPtr scalar_expr(const ast::Expr &e, const Scope &s);
   /// Evaluates a flat expression; throws Reported when it is not constant.
   double eval(const ast::Expr &flat_expr, SourceRange where);
+  /// The value of a String expression of parameters (a literal, a String
+  /// parameter's binding, an if-expression of them), or nullopt: `=` and
+  /// `<>` of two such evaluate (`Star star if terminalConnection <> "D"`).
+  std::optional<std::string> eval_string(const ast::Expr &flat_expr, SourceRange where, unsigned depth = 0);
   double eval_param(std::int32_t var, SourceRange where);
   /// Flattens and evaluates `e` as an integer (dims, subscripts, ranges).
   long long eval_int(const ast::Expr &e, const Scope &s);

@@ -198,8 +198,12 @@ private:
     Slot& s = slots_[static_cast<std::size_t>(i)];
     VariableInfo info{v.name, v.description, v.attr.unit};
     if (v.type == flat::BaseType::String) {
-      error(DiagId::UnsupportedInLowering, v.range, "String variables cannot be lowered");
-      s = {Slot::Value, none, dae_.arena.constant(0.0)};
+      // A String parameter (a table's file name, a machine's terminal
+      // connection) served the flattening; only a use in an equation is an error (ref()).
+      if (v.variability != ast::Variability::Parameter && v.variability != ast::Variability::Constant) {
+        error(DiagId::UnsupportedInLowering, v.range, "String variables cannot be lowered");
+        s = {Slot::Value, none, dae_.arena.constant(0.0)};
+      }
     } else if (v.variability == ast::Variability::Constant ||
                (v.variability == ast::Variability::Parameter &&
                 (v.type != flat::BaseType::Real || (v.evaluate && v.value)))) {
@@ -247,6 +251,8 @@ private:
     if (s.kind == Slot::Value) return s.value;
     if (in_progress_.contains(r.var))
       return conv_->fail(r, "parameter '" + fv(r.var).name + "' depends on itself");
+    if (fv(r.var).type == flat::BaseType::String)
+      return conv_->fail(r, "String parameter '" + fv(r.var).name + "' cannot be used in an equation");
     in_progress_.insert(r.var);
     const Expr value = conv_->convert(*fv(r.var).binding);
     in_progress_.erase(r.var);
