@@ -27,9 +27,18 @@ bool breaks_affinity(ExprKind k) {
     case ExprKind::Eq: case ExprKind::Ne: case ExprKind::Sign: case ExprKind::Floor:
     case ExprKind::Ceil:
       return true;
-    default:
+    case ExprKind::Constant: case ExprKind::Symbol: case ExprKind::Der: case ExprKind::Pre:
+    case ExprKind::Add: case ExprKind::Sub: case ExprKind::Mul: case ExprKind::Div:
+    case ExprKind::Neg: case ExprKind::Pow: case ExprKind::Sin: case ExprKind::Cos:
+    case ExprKind::Tan: case ExprKind::Asin: case ExprKind::Acos: case ExprKind::Atan:
+    case ExprKind::Atan2: case ExprKind::Sinh: case ExprKind::Cosh: case ExprKind::Tanh:
+    case ExprKind::Exp: case ExprKind::Log: case ExprKind::Log10: case ExprKind::Sqrt:
+    case ExprKind::Abs: case ExprKind::Min: case ExprKind::Max: case ExprKind::Select:
+    case ExprKind::And: case ExprKind::Or: case ExprKind::Not: case ExprKind::NoEvent:
+    case ExprKind::Smooth:
       return false;
   }
+  return false;
 }
 
 }  // namespace
