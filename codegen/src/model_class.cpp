@@ -187,9 +187,6 @@ public:
     } else if (!(cause.t == event_time_)) {
       std::fill(cross_.begin(), cross_.end(), 0);
     }
-    // At initialisation the value before is always the condition with
-    // initial() at 0 and the values of this iteration: only a clause that
-    // initial() enables fires there (Modelica 3 §8.6), at most once.
     if (fresh || !(cause.t == event_time_) || initialising_) {
       for (std::size_t i = 0; i < ng; ++i) reversed_[i] = -cross_[i];
       // The values before the crossing come from the steps too: a condition
@@ -202,7 +199,7 @@ public:
         for (std::size_t i = 0; i < ng; ++i) relations_[i] = std::abs(cross_[i]) == 1 ? -cross_[i] : 0;
         run(event_rhs_section, relations_.data());
       }
-      conditions(reversed_.data(), before_);
+      if (!initialising_) conditions(reversed_.data(), before_);  // at initialisation: below
       if (fresh) section_steps();
     } else {
       before_ = now_;
@@ -219,7 +216,10 @@ public:
     // with `off = not control` fires in the iteration where off changes
     // (the next one has pre(off) = off, and the edge would be lost).
     solve_mixed();
-    if (initialising_) {  // the value before: this iteration's values, initial() at 0
+    // At initialisation the value before is always the condition with
+    // initial() at 0 and the values of this iteration: only a clause that
+    // initial() enables fires there (Modelica 3 §8.6), at most once.
+    if (initialising_) {
       set_initial(0.0);
       section_steps();
       conditions(reversed_.data(), before_);
