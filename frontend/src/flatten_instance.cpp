@@ -140,14 +140,13 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   // This class's components, until its loop below has instantiated them,
   // can be looked up early (member()): by its bases' modifiers and
   // redeclarations, and by siblings' modifiers.
-  std::vector<std::pair<const Instance *, std::string>> registered;
+  std::vector<MemberKey> registered;
   for (const auto &c : def.components)
-    if (!c.redeclare && later_members_.emplace(std::pair<const Instance *, std::string>{&inst, c.name},
-                                              LaterMember{&c, cls, &mod, depth}).second)
+    if (!c.redeclare && later_members_.emplace(MemberKey{&inst, c.name}, LaterMember{&c, cls, &mod, depth}).second)
       registered.emplace_back(&inst, c.name);
   struct Unregister {
-    std::map<std::pair<const Instance *, std::string>, LaterMember> &map;
-    std::vector<std::pair<const Instance *, std::string>> &keys;
+    std::map<MemberKey, LaterMember> &map;
+    std::vector<MemberKey> &keys;
     ~Unregister() {
       for (const auto &k : keys)
         map.erase(k);

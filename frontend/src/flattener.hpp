@@ -214,8 +214,9 @@ public:
     unsigned depth;
     bool started = false;
   };
+  using MemberKey = std::pair<const Instance *, std::string>; ///< instance and element name
   /// Components of instances under construction, by instance and name.
-  std::map<std::pair<const Instance *, std::string>, LaterMember> later_members_;
+  std::map<MemberKey, LaterMember> later_members_;
   /// The `inner` element `name` of the nearest instance enclosing `from`, or null.
   Instance *find_inner(const Instance &from, const std::string &name);
 
