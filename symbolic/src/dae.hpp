@@ -73,6 +73,10 @@ struct Dae {
   std::vector<OdeSample> samples;  ///< the distinct sample() calls and their flags
   /// Symbol id → DaeVar index (for Algebraic symbols made by lowering).
   std::vector<int> var_of_symbol;
+  /// Prefix of the internal names add_var gives symbols. A trial that is
+  /// rolled back leaves its symbols in the arena; changing the prefix keeps
+  /// the variables made after it from colliding with them.
+  std::string symbol_prefix = "\x1f";
 
   /// The variable a Symbol stands for, or none (parameters, inputs, time...).
   [[nodiscard]] int var_of(Expr symbol) const {

@@ -17,7 +17,7 @@ int Dae::add_var(DaeVar v) {
   const int index = static_cast<int>(vars.size());
   // Internal names start with a control character no Modelica name has, so
   // the final symbols (with their proper roles) can take the plain names.
-  v.symbol = arena.symbol("\x1f" + v.info.name, SymbolRole::Algebraic, index);
+  v.symbol = arena.symbol(symbol_prefix + v.info.name, SymbolRole::Algebraic, index);
   if (var_of_symbol.size() <= v.symbol.id()) var_of_symbol.resize(v.symbol.id() + 1, none);
   var_of_symbol[v.symbol.id()] = index;
   vars.push_back(std::move(v));

@@ -10,6 +10,7 @@
 #include "dae_build.hpp"
 #include "index_reduction.hpp"
 #include "initial_system.hpp"
+#include "preferred_states.hpp"
 #include "mo/symbolic/evaluator.hpp"
 #include "mo/symbolic/printer.hpp"
 #include "mo/symbolic/structure.hpp"
@@ -386,9 +387,10 @@ std::optional<OdeModel> lower(const frontend::flat::Model& flat,
   if (options.trace) trace_alias(*dae, *options.trace);
   mark_source_derivatives(*dae);
   const std::size_t before = dae->eqs.size();
-  if (!pantelides(*dae, diags)) return std::nullopt;
+  const std::optional<std::vector<bool>> selected = reduce_index(*dae, diags);
+  if (!selected) return std::nullopt;
+  const std::vector<bool>& state = *selected;
   st.differentiated = dae->eqs.size() - before;
-  const std::vector<bool> state = select_states(*dae);
   for (std::size_t v = 0; v < dae->vars.size(); ++v)
     if (!dae->vars[v].eliminated && dae->vars[v].derivative != none && !state[v])
       ++st.dummy_derivatives;

@@ -306,3 +306,43 @@ TEST_CASE("an indicator that leaves a held 0 is no crossing for the values befor
     CHECK(discrete_value(*model, "count") == std::floor(stop));
   }
 }
+
+TEST_CASE("a preferred variable the model never differentiates is a state, so a reinit keeps it", "[events][states]") {
+  // Written has v_rel = der(s_rel) only; WithAcceleration also a_rel = der(v_rel),
+  // which made s_rel and v_rel states already. Both must choose the same states
+  // and give the same trajectories through the bounces off the stop.
+  const std::string file = kData + "StopBehindSpring.mo";
+  const auto written = lower_spec({{file, "StopBehindSpring.Written", {}, true}, {}});
+  std::vector<std::string> states;
+  for (const auto& s : written.states) states.push_back(s.info.name);
+  std::sort(states.begin(), states.end());
+  CHECK(states == std::vector<std::string>{"s2", "s_rel", "v2", "v_rel"});
+
+  auto a = compiled_model("e2e_stop_behind_spring", {{file, "StopBehindSpring.Written", {}, true}, {}});
+  auto b = compiled_model("e2e_stop_behind_spring_acc", {{file, "StopBehindSpring.WithAcceleration", {}, true}, {}});
+  const auto grid = runtime::OutputGrid::uniform(0, 2, 200);
+  const auto ra = runtime::simulate(*a, {}, a->info().default_parameters(), grid, tight());
+  const auto rb = runtime::simulate(*b, {}, b->info().default_parameters(), grid, tight());
+  INFO(ra.message << " / " << rb.message);
+  REQUIRE(ra.ok());
+  REQUIRE(rb.ok());
+  REQUIRE(ra.event_times.size() >= 2);
+  CHECK(ra.event_times.size() == rb.event_times.size());
+  for (const char* name : {"s_rel", "v_rel", "s2", "v2"}) {
+    const auto x = column(ra.trajectory, name), y = column(rb.trajectory, name);
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      INFO(name << " at t = " << grid.times[k]);
+      CHECK(x[k] == Approx(y[k]).margin(1e-7));
+    }
+  }
+}
+
+TEST_CASE("a preferred variable that cannot be a state leaves the others preferred", "[events][states]") {
+  // x depends on time through an if-expression only: it is no state candidate
+  // (its derivative would be a dummy), and s_rel, v_rel stay the states.
+  const auto m = lower_spec({{kData + "StopBehindSpring.mo", "StopBehindSpring.Unpreferable", {}, true}, {}});
+  std::vector<std::string> states;
+  for (const auto& s : m.states) states.push_back(s.info.name);
+  std::sort(states.begin(), states.end());
+  CHECK(states == std::vector<std::string>{"s2", "s_rel", "v2", "v_rel"});
+}
