@@ -40,7 +40,18 @@ int Dae::derivative_of(int v) {
 
 namespace {
 
-/// The first parameter declared `fixed = false` that `e` references, or -1.
+/// True for a parameter declared `fixed = false` without a binding: its
+/// value is computed by the initial equations (the MSL's
+/// SaturatingInductor.Ipar). With a binding it stays a parameter of that
+/// value: Scilab's flat files mark every block parameter fixed = false.
+bool computed_parameter(const flat::Variable& v) {
+  const ast::Expr* fixed = v.attr.fixed.get();
+  return v.variability == ast::Variability::Parameter && !v.binding && fixed &&
+         fixed->kind == ast::ExprKind::Boolean && fixed->number == 0.0;
+}
+
+/// The first Integer or Boolean parameter computed by the initial equations
+/// that `e` references, or -1 (a Real one is an unknown of the initial system).
 std::int32_t free_start_parameter(const ast::Expr& e, const flat::Model& f) {
   std::vector<const ast::Expr*> todo{&e};
   while (!todo.empty()) {
@@ -48,10 +59,7 @@ std::int32_t free_start_parameter(const ast::Expr& e, const flat::Model& f) {
     todo.pop_back();
     if (x->var >= 0) {
       const flat::Variable& v = f.variables[static_cast<std::size_t>(x->var)];
-      const ast::Expr* fixed = v.attr.fixed.get();
-      if (v.variability == ast::Variability::Parameter && fixed &&
-          fixed->kind == ast::ExprKind::Boolean && fixed->number == 0.0)
-        return x->var;
+      if (computed_parameter(v) && v.type != flat::BaseType::Real) return x->var;
     }
     for (const auto& a : x->args) if (a) todo.push_back(a.get());
     for (const auto& n : x->named) if (n.value) todo.push_back(n.value.get());
@@ -91,6 +99,7 @@ public:
     for (auto& u : dae_.inputs) info_of_[u.symbol] = &u.info;
     for (std::size_t i = 0; i < f_.variables.size(); ++i) attributes(static_cast<int>(i));
     for (const ast::Equation& eq : f_.equations) equation(eq);
+    computed_parameters();
     initial_equations();
     outputs();
     if (!conv_->ok() || !ok_) return std::nullopt;
@@ -210,6 +219,14 @@ private:
       // Evaluate = true: a structural value, used as a constant (the MSL's
       // HeatingNPN_OrGate sets every capacitance to CapVal = 0 so).
       s = {Slot::Value, none, dae_.arena.constant(v.value.value_or(0.0))};
+    } else if (v.variability == ast::Variability::Parameter && computed_parameter(v)) {
+      // Real, fixed = false, no binding: an unknown of the initial system that keeps
+      // its value, i.e. a state with der(p) = 0 (see computed_parameters()).
+      DaeVar d;
+      d.info = info;
+      d.range = v.range;
+      s = {Slot::Var, dae_.add_var(std::move(d)), Expr()};
+      computed_.push_back(i);
     } else if (v.variability == ast::Variability::Parameter) {
       declare_parameter(i, info);
     } else if (v.top_level_input) {
@@ -331,6 +348,7 @@ private:
   }
 
   void equation(const ast::Equation& eq);
+  void computed_parameters();
   void initial_equations();
   bool discrete_initial_assignment(const ast::Equation& eq);
   bool initial_pre(const ast::Equation& eq);
@@ -348,6 +366,7 @@ private:
   /// see mark_event_equations(); true if the variable is on the left
   std::unordered_map<const ast::Equation*, bool> event_equations_;
   std::unordered_set<int> in_progress_;
+  std::vector<int> computed_;  ///< Real parameters declared fixed = false
   std::optional<ExprConverter> conv_;
   LeafValues param_values_;  ///< default value of every parameter symbol
   std::unordered_map<Expr, VariableInfo*, ExprHash> info_of_;  ///< parameter/input/discrete info
@@ -390,6 +409,19 @@ void Builder::equation(const ast::Equation& eq) {
   }
   error(DiagId::UnsupportedInLowering, eq.range,
         "this equation should have been expanded by flattening");
+}
+
+/// A Real parameter computed by the initial equations (computed_parameter())
+/// keeps the value the initial system gives it: der(p) = 0 in the model,
+/// its start value Newton's guess.
+void Builder::computed_parameters() {
+  for (int i : computed_) {
+    const int v = slots_[static_cast<std::size_t>(i)].var;
+    DaeEq e;
+    e.residual = dae_.vars[static_cast<std::size_t>(dae_.derivative_of(v))].symbol;
+    e.range = fv(i).range;
+    dae_.eqs.push_back(e);
+  }
 }
 
 /// if c1 then A elseif c2 then B else C end if, every branch with the same
