@@ -106,6 +106,32 @@ double step_to_bounds(const NonlinearBlock& b, const BlockWorkspace& ws) {
   return std::max(lambda, 0.0);
 }
 
+/// The Newton step where J (row-major, `jac`) is singular: the least-squares
+/// one, (JᵀJ + μI) y = -Jᵀr over the unknowns in units of their nominal
+/// values (dz = nominal·y), μ 1e-10 of the largest diagonal entry of JᵀJ; it
+/// moves only along what the residuals see (the MSL's SaturatingInductor at
+/// i = 0, where its inductance does not enter). Into ws.b; false if J is 0.
+bool least_squares_step(const NonlinearBlock& b, const double* w, BlockWorkspace& ws,
+                        const std::vector<double>& jac) {
+  const auto n = static_cast<Size>(b.size);
+  std::vector<double> normal(n * n, 0.0), rhs(n, 0.0);
+  double largest = 0.0;
+  for (Size j = 0; j < n; ++j) {
+    for (Size k = 0; k < n; ++k) {
+      double sum = 0.0;
+      for (Size i = 0; i < n; ++i) sum += jac[i * n + j] * jac[i * n + k];
+      normal[j * n + k] = sum * nominal_of(b, j) * nominal_of(b, k);
+    }
+    for (Size i = 0; i < n; ++i) rhs[j] -= jac[i * n + j] * nominal_of(b, j) * w[b.residuals[i]];
+    largest = std::max(largest, normal[j * n + j]);
+  }
+  if (!(largest > 0.0) || !std::isfinite(largest)) return false;
+  for (Size j = 0; j < n; ++j) normal[j * n + j] += 1e-10 * largest;
+  if (!solve_dense(normal, ws.pivots, rhs)) return false;
+  for (Size j = 0; j < n; ++j) ws.b[j] = rhs[j] * nominal_of(b, j);
+  return true;
+}
+
 }  // namespace
 
 bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws) {
@@ -151,7 +177,11 @@ std::string newton(const NonlinearBlock& block, double* w, BlockWorkspace& ws) {
     row_scales(block, ws);
     const double merit = scaled_norm(block, w, ws);
     for (Size i = 0; i < n; ++i) ws.b[i] = -w[block.residuals[i]];
-    if (!solve_dense(ws.a, ws.pivots, ws.b)) return fmt::format("singular Jacobian at Newton iteration {}", iteration);
+    if (!solve_dense(ws.a, ws.pivots, ws.b)) {
+      assemble(block.entries, block.num_entries, n, w, ws);  // solve_dense factorised it in place
+      if (!least_squares_step(block, w, ws, ws.a))
+        return fmt::format("singular Jacobian at Newton iteration {}", iteration);
+    }
     bool small_step = true;
     for (Size i = 0; i < n; ++i) {
       ws.z[i] = w[block.unknowns[i]];

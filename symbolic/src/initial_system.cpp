@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 #include <unordered_set>
 
 #include "mo/symbolic/structure.hpp"
@@ -259,7 +260,19 @@ private:
   /// form, or a step over fresh symbols.
   void add(Step& step) {
     if (auto* as = std::get_if<Assignment>(&step)) {
-      values_[as->target] = substitute(a_, as->value, values_);
+      Expr value = substitute(a_, as->value, values_);
+      // The values so far fold its equation to 0/0 (SaturatingInductor's
+      // (L - Linf)*i/Ipar = (Lzer - Linf)*atan(i/Ipar) at i = 0): the
+      // equation holds for any value here, so the variable keeps its guess.
+      if (a_.is_constant(value) && std::isnan(a_.constant_value(value))) {
+        const double guess = guess_[static_cast<std::size_t>(local_.at(as->target))];
+        diags_.report(DiagId::InitialStartFixed, first_initial_range(),
+                      fmt::format("'{}' is left undetermined at the initial point: its equation ({}) gives "
+                                  "0/0 there, so it starts at its start value {}",
+                                  a_.symbol_info(as->target).name, as->origin, guess));
+        value = a_.constant(guess);
+      }
+      values_[as->target] = value;
       return;
     }
     auto& b = std::get<EquationBlock>(step);
