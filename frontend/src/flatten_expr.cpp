@@ -345,6 +345,8 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
   case ExprKind::Ref: {
     if (s.locals && !(s.env && e.ref.is_simple() && s.env->find(e.ref.parts[0].name))) {
       Tensor t; // an input, output or local of a function being inlined
+      if (s.locals->count(e.ref.parts[0].name) && varying_subscript(e, s, t))
+        return t;
       if (local_value(e.ref, s, e.range, t))
         return t;
     }

@@ -678,6 +678,26 @@ TEST_CASE("while, return and break on varying conditions become if-expressions o
   CHECK(contains(s, "w = if time < 1 then 0 else if time < 2 then 0 + 1 else if time < 3 then 0 + 1 + 2 else 0 + 1 + 2 + 3;"));
 }
 
+TEST_CASE("a function's array indexed by a varying Integer selects by an if-expression", "[msl][functions]") {
+  // The MSL's TimeTable indexes its table by the row an earlier event found.
+  const std::string s = flat(R"(
+    function pick
+      input Real a[:];
+      input Integer i;
+      output Real y;
+    protected
+      Integer k;
+    algorithm
+      k := i;
+      y := a[k] + a[2];
+    end pick;
+    model M
+      Integer j = if time > 1 then 2 else 1;
+      Real z = pick({10, 20, 30}, j);
+    end M;)");
+  CHECK(contains(s, "z = (if j == 1 then 10 else if j == 2 then 20 else 30) + 20;"));
+}
+
 TEST_CASE("algorithm sections of models that assign each variable once are equations", "[msl][algorithm]") {
   const char *src = R"(
     model Alg
