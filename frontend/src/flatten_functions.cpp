@@ -18,6 +18,8 @@
 #include "mo/frontend/printer.hpp"
 
 #include <fmt/format.h>
+#include <functional>
+#include <limits>
 #include <map>
 #include <set>
 
@@ -221,11 +223,89 @@ struct Decisions {
   /// condition met again (a loop's test after the `if` that guards the loop)
   /// is not a new decision, and the ways it rules out are never run.
   std::map<std::string, bool> known;
+  /// Closed bounds [lo, hi] on this path of varying values (by their text)
+  /// that relations and subscripts have shown: a subscript is within its
+  /// dimension, `i < n` decided true bounds i by n. A while-loop that counts
+  /// a varying row up (the MSL's TimeTable: `next < nrow and t >= table[next, 1]`)
+  /// so has as many ways as rows, not kMaxDecisions.
+  std::map<std::string, std::pair<double, double>> bounds;
 };
+
+/// `e` as atom + offset, the atom its non-numeric part (by text), through
+/// additions and subtractions of numbers; false if `e` is numbers only.
+bool atom_plus_offset(Flattener &f, const Expr &e, std::string &atom, double &offset) {
+  const Expr *x = &e;
+  double c = 0;
+  while (x->kind == ExprKind::Binary && (x->op == Op::Add || x->op == Op::Sub)) {
+    const bool left_number = literals_only(*x->args[0]), right_number = literals_only(*x->args[1]);
+    if (right_number && !left_number) {
+      const double v = f.eval(*x->args[1], x->range);
+      c += x->op == Op::Add ? v : -v;
+      x = x->args[0].get();
+    } else if (left_number && !right_number && x->op == Op::Add) {
+      c += f.eval(*x->args[0], x->range);
+      x = x->args[1].get();
+    } else {
+      break;
+    }
+  }
+  if (literals_only(*x))
+    return false;
+  atom = print_expr(*x);
+  offset = c;
+  return true;
+}
+
+/// A relation `atom + c op d` (or `d op atom + c`) as (atom, op, d - c) with
+/// the atom on the left; false for other expressions.
+bool bound_form(Flattener &f, const Expr &c, std::string &atom, Op &op, double &value) {
+  if (c.kind != ExprKind::Binary || !(c.op == Op::Lt || c.op == Op::Le || c.op == Op::Gt || c.op == Op::Ge))
+    return false;
+  double offset = 0;
+  if (literals_only(*c.args[1]) && atom_plus_offset(f, *c.args[0], atom, offset)) {
+    op = c.op;
+    value = f.eval(*c.args[1], c.range) - offset;
+    return true;
+  }
+  if (literals_only(*c.args[0]) && atom_plus_offset(f, *c.args[1], atom, offset)) {
+    op = c.op == Op::Lt ? Op::Gt : c.op == Op::Le ? Op::Ge : c.op == Op::Gt ? Op::Lt : Op::Le;
+    value = f.eval(*c.args[0], c.range) - offset;
+    return true;
+  }
+  return false;
+}
+
+/// The value of relation `c` from the bounds of its atom, or -1.
+int bounded_value(Flattener &f, const Expr &c, const Decisions &d) {
+  std::string atom;
+  Op op{};
+  double v = 0;
+  if (!bound_form(f, c, atom, op, v))
+    return -1;
+  const auto it = d.bounds.find(atom);
+  if (it == d.bounds.end())
+    return -1;
+  const auto [lo, hi] = it->second;
+  switch (op) {
+  case Op::Lt: return hi < v ? 1 : lo >= v ? 0 : -1;
+  case Op::Le: return hi <= v ? 1 : lo > v ? 0 : -1;
+  case Op::Gt: return lo > v ? 1 : hi <= v ? 0 : -1;
+  case Op::Ge: return lo >= v ? 1 : hi < v ? 0 : -1;
+  default: return -1;
+  }
+}
+
+/// Narrows the bounds of `atom` to [lo, hi].
+void narrow(Decisions &d, const std::string &atom, double lo, double hi) {
+  auto [it, fresh] = d.bounds.try_emplace(atom, lo, hi);
+  if (!fresh)
+    it->second = {std::max(it->second.first, lo), std::min(it->second.second, hi)};
+}
 
 /// The value of `c` from `known` outcomes and literals (folded) through and/or/not,
 /// or -1 when they do not decide it; iterative over the and/or tree.
-int known_value(Flattener &f, const Expr &c, const std::map<std::string, bool> &known) {
+int known_value(Flattener &f, const Expr &c, const Decisions &decisions) {
+  const std::map<std::string, bool> &known = decisions.known;
   // Post-order over the Boolean connectives only; other nodes are leaves.
   std::vector<std::pair<const Expr *, bool>> work{{&c, false}};
   std::map<const Expr *, int> value;
@@ -239,7 +319,7 @@ int known_value(Flattener &f, const Expr &c, const std::map<std::string, bool> &
         value[e] = f.eval(*e, e->range) != 0;
       } else {
         auto it = known.find(print_expr(*e));
-        value[e] = it == known.end() ? -1 : it->second;
+        value[e] = it == known.end() ? bounded_value(f, *e, decisions) : it->second;
       }
       continue;
     }
@@ -321,6 +401,19 @@ public:
 
   void run(const std::vector<Statement> &body, ClassNode *cls) {
     cls_ = cls;
+    // Subscripts this algorithm takes at varying indices bound them (restored
+    // on the way out: a NeedDecision or an error leaves by exception).
+    struct Hook {
+      Flattener &f;
+      std::function<void(const Expr &, int)> saved;
+      ~Hook() { f.on_varying_index = std::move(saved); }
+    } hook{f_, std::move(f_.on_varying_index)};
+    f_.on_varying_index = [this](const Expr &index, int n) {
+      std::string atom;
+      double offset = 0;
+      if (atom_plus_offset(f_, index, atom, offset))
+        narrow(decisions_, atom, 1 - offset, n - offset);
+    };
     exec(body);
   }
 
@@ -352,7 +445,7 @@ private:
 
   /// The outcome of varying condition `c` on this run's path (see Decisions).
   bool decide(const Expr &c) {
-    const int known = known_value(f_, c, decisions_.known);
+    const int known = known_value(f_, c, decisions_);
     if (known >= 0)
       return known != 0;
     if (decisions_.next == decisions_.taken.size()) {
@@ -362,8 +455,8 @@ private:
       // `i < n and x >= a[i]` with i and n known: the decision is on the rest.
       const Expr *rest = &c;
       while (rest->kind == ExprKind::Binary && (rest->op == Op::And || rest->op == Op::Or)) {
-        const int left = known_value(f_, *rest->args[0], decisions_.known);
-        const int right = known_value(f_, *rest->args[1], decisions_.known);
+        const int left = known_value(f_, *rest->args[0], decisions_);
+        const int right = known_value(f_, *rest->args[1], decisions_);
         const int neutral = rest->op == Op::And ? 1 : 0;
         if (left == neutral)
           rest = rest->args[1].get();
@@ -386,6 +479,26 @@ private:
     decisions_.known[print_expr(c)] = outcome;
     if (c.kind != ExprKind::Binary)
       return;
+    if (c.op == Op::And || c.op == Op::Or) {  // what the outcome says of each side
+      const bool absorbing = c.op == Op::Or;  // true for or, false for and
+      if (outcome != absorbing) {
+        learn(*c.args[0], outcome);
+        learn(*c.args[1], outcome);
+      } else if (known_value(f_, *c.args[0], decisions_) == !absorbing) {
+        learn(*c.args[1], outcome);
+      } else if (known_value(f_, *c.args[1], decisions_) == !absorbing) {
+        learn(*c.args[0], outcome);
+      }
+      return;
+    }
+    std::string atom;
+    Op op{};
+    double v = 0;
+    if (bound_form(f_, c, atom, op, v)) {
+      const bool upper = (op == Op::Lt || op == Op::Le) == outcome;
+      constexpr double inf = std::numeric_limits<double>::infinity();
+      narrow(decisions_, atom, upper ? -inf : v, upper ? v : inf);
+    }
     Op complement = Op::Eq;
     switch (c.op) {
     case Op::Lt: complement = Op::Ge; break;
@@ -501,12 +614,15 @@ private:
       return;
     }
     FunctionLocals before = clone_locals(values);
+    const auto bounds_before = decisions_.bounds; // facts in a branch hold only there
     exec(b.body);
+    decisions_.bounds = bounds_before;
     if (returned_ || broke_)
       unsupported(b.range, "'return' or 'break' under a condition that varies in time");
     FunctionLocals then_values = std::move(values);
     values = std::move(before);
     exec_if(branches, i + 1);
+    decisions_.bounds = bounds_before;
     if (returned_ || broke_)
       unsupported(b.range, "'return' or 'break' under a condition that varies in time");
     for (auto &[name, t] : values) {

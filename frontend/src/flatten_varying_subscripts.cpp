@@ -46,6 +46,8 @@ bool Flattener::varying_subscript(const Expr &e, const Scope &s, Tensor &out) {
         fail(DiagId::Unsupported, subs[j]->range,
              "a subscript that varies in time is supported only where the reference is otherwise a scalar");
       const std::size_t n = choices.elems.size();
+      if (on_varying_index)
+        on_varying_index(*index.elems[0], static_cast<int>(n));
       ExprPtr chosen = std::move(choices.elems[n - 1]);
       for (std::size_t k = n - 1; k-- > 0;) {
         auto pick = std::make_unique<Expr>(ExprKind::If, e.range);

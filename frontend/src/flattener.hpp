@@ -10,6 +10,7 @@
 #include "mo/frontend/flat.hpp"
 #include "mo/frontend/flatten.hpp"
 
+#include <functional>
 #include <map>
 #include <optional>
 #include <memory>
@@ -328,6 +329,10 @@ public:
   /// else a[n]` in `out` (flatten_varying_subscripts.cpp); false when every
   /// subscript of `ref_expr` is known now.
   bool varying_subscript(const ast::Expr &ref_expr, const Scope &s, Tensor &out);
+  /// Told of every varying subscript `index` into a dimension of size `n`
+  /// while a function is inlined: an index outside 1..n is an error in
+  /// Modelica, so the ways through it bound it (flatten_functions.cpp).
+  std::function<void(const ast::Expr &index, int n)> on_varying_index;
   /// A constant reached lexically (package constants, enumeration literals).
   bool lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
 

@@ -674,7 +674,8 @@ TEST_CASE("while, return and break on varying conditions become if-expressions o
   // the backward loop's `time < 1` is known from the `if`.
   CHECK(contains(s, "z = if time >= 1 then 1 + (4 - 1) * (time - 1) / (2 - 1) else 0 + (1 - 0) * (time - 0) / (1 - 0);"));
   CHECK(contains(s, "j = if time >= 1 then min(max(2, 1), 3 - 1) + 1 - 1 else min(max(2, 1), 3 - 1) - 1;"));
-  CHECK(contains(s, "k = if time > 1 then 1 else if time > 2 then 2 else if time > 0.5 then 3 else 0;"));
+  // Where time > 1 is false, time > 2 is too (the bounds of `time` on that way).
+  CHECK(contains(s, "k = if time > 1 then 1 else if time > 0.5 then 3 else 0;"));
   CHECK(contains(s, "w = if time < 1 then 0 else if time < 2 then 0 + 1 else if time < 3 then 0 + 1 + 2 else 0 + 1 + 2 + 3;"));
 }
 
@@ -696,6 +697,33 @@ TEST_CASE("a function's array indexed by a varying Integer selects by an if-expr
       Real z = pick({10, 20, 30}, j);
     end M;)");
   CHECK(contains(s, "z = (if j == 1 then 10 else if j == 2 then 20 else 30) + 20;"));
+}
+
+TEST_CASE("a while-loop from a varying row ends where its subscripts leave the table", "[msl][functions]") {
+  // The MSL's TimeTable: `next := last; while next < nrow and t >= table[next, 1]`.
+  // table[next] bounds next to 1..3 on every way, so `j + 2 < 3` is false and
+  // there are three ways through, not kMaxDecisions.
+  const std::string s = flat(R"(
+    function rowAfter
+      input Real tab[:];
+      input Real t;
+      input Integer last;
+      output Integer next;
+    protected
+      Integer n = size(tab, 1);
+    algorithm
+      next := last;
+      while next < n and t >= tab[next] loop
+        next := next + 1;
+      end while;
+    end rowAfter;
+    model M
+      Integer j = if time > 5 then 2 else 1;
+      Integer k = rowAfter({0, 1, 2}, time, j);
+    end M;)");
+  CHECK(contains(s, "k = if j < 3 and time >= (if j == 1 then 0 else if j == 2 then 1 else 2) then "
+                    "if j + 1 < 3 and time >= (if j + 1 == 1 then 0 else if j + 1 == 2 then 1 else 2) then "
+                    "j + 1 + 1 else j + 1 else j;"));
 }
 
 TEST_CASE("algorithm sections of models that assign each variable once are equations", "[msl][algorithm]") {
