@@ -230,17 +230,29 @@ public:
     mo::runtime::EventResponse response;
     double* w = w_.data();
     std::fill(fired_.begin(), fired_.end(), 0);
-    for (std::size_t k = 0; k < nwhen; ++k) {
-      if (when_every_event[k] || now_[k] == 0.0 || before_[k] != 0.0) continue;
-      if (initialising_) {
-        if (init_fired_[k] != 0) continue;
-        init_fired_[k] = 1;
-      }
-      fired_[k] = 1;
-      fire(k);
-      for (int r = when_reinit_start[k]; r < when_reinit_start[k + 1]; ++r) {
-        x[static_cast<std::size_t>(when_reinit_state[r])] = w[when_reinit_value[r]];
-        response.states_reinit = true;
+    // A condition may read what another clause assigns at this instant (the
+    // MSL's RadioButtonSource: `when change(table.y)` beside the table's own
+    // clause): after each clause fires, the discrete equations and the
+    // conditions again, and the clauses not fired yet once more, each at
+    // most once. (In the next iteration pre(y) = y and change(y) is lost.)
+    for (bool again = true; again;) {
+      again = false;
+      for (std::size_t k = 0; k < nwhen; ++k) {
+        if (fired_[k] || when_every_event[k] || now_[k] == 0.0 || before_[k] != 0.0) continue;
+        if (initialising_) {
+          if (init_fired_[k] != 0) continue;
+          init_fired_[k] = 1;
+        }
+        fired_[k] = 1;
+        const bool changed = fire(k);
+        for (int r = when_reinit_start[k]; r < when_reinit_start[k + 1]; ++r) {
+          x[static_cast<std::size_t>(when_reinit_state[r])] = w[when_reinit_value[r]];
+          response.states_reinit = true;
+        }
+        if (!changed) continue;
+        solve_mixed();
+        conditions(cross_.data(), now_);
+        again = true;
       }
     }
     solve_mixed();

@@ -6,6 +6,7 @@
 
 #include "dae_expr.hpp"
 #include "mo/symbolic/evaluator.hpp"
+#include "mo/symbolic/substitute.hpp"
 
 namespace mo::symbolic::detail {
 
@@ -66,6 +67,85 @@ std::int32_t free_start_parameter(const ast::Expr& e, const flat::Model& f) {
     for (const auto& row : x->rows) for (const auto& a : row) if (a) todo.push_back(a.get());
   }
   return -1;
+}
+
+/// The targets of `w`'s assignments that `e` reads outside pre() (indices
+/// into w.assignments), and the pre() nodes of `e`.
+void clause_reads(const ExprArena& a, const DaeWhen& w, Expr e, std::vector<std::size_t>& reads,
+                  std::vector<Expr>& pres) {
+  std::vector<Expr> stack{e};
+  std::unordered_set<std::uint32_t> seen;
+  while (!stack.empty()) {
+    const Expr x = stack.back();
+    stack.pop_back();
+    if (!seen.insert(x.id()).second) continue;
+    const ExprKind k = a.kind(x);
+    if (k == ExprKind::Pre) {
+      pres.push_back(x);
+      continue;
+    }
+    if (k == ExprKind::Symbol) {
+      for (std::size_t i = 0; i < w.assignments.size(); ++i)
+        if (w.assignments[i].target == x) reads.push_back(i);
+      continue;
+    }
+    for (std::size_t j = 0; j < arity(k); ++j) stack.push_back(a.operand(x, j));
+  }
+}
+
+/// The equations of a when-clause hold together (Modelica 3 §8.3.5): one
+/// that reads another's target reads its new value (the MSL's IntegerTable:
+/// `index = pre(index) + 1; nextTime = table[index, 1]`). Substitutes each
+/// assigned value into the values and reinit values that read it, in
+/// dependency order; a cycle among them is left as written.
+void resolve_within_clause(ExprArena& a, DaeWhen& w) {
+  const std::size_t n = w.assignments.size();
+  if (n == 0) return;
+  std::vector<std::vector<std::size_t>> reads(n);
+  std::vector<std::vector<Expr>> pres(n);
+  for (std::size_t i = 0; i < n; ++i) clause_reads(a, w, w.assignments[i].value, reads[i], pres[i]);
+  std::vector<int> state(n, 0);  // 0 new, 1 in progress, 2 resolved
+  std::vector<std::size_t> order;
+  bool cycle = false;
+  std::vector<std::pair<std::size_t, std::size_t>> stack;  // (assignment, next read)
+  for (std::size_t root = 0; root < n && !cycle; ++root) {
+    if (state[root]) continue;
+    stack.push_back({root, 0});
+    state[root] = 1;
+    while (!stack.empty() && !cycle) {
+      auto& [i, next] = stack.back();
+      if (next == reads[i].size()) {
+        state[i] = 2;
+        order.push_back(i);
+        stack.pop_back();
+        continue;
+      }
+      const std::size_t j = reads[i][next++];
+      if (state[j] == 1) cycle = true;
+      else if (state[j] == 0) {
+        state[j] = 1;
+        stack.push_back({j, 0});
+      }
+    }
+  }
+  if (cycle) return;
+  ExprMap resolved;
+  auto resolve = [&](Expr e, const std::vector<Expr>& own_pres) {
+    ExprMap map = resolved;
+    for (Expr p : own_pres) map[p] = p;  // pre(v) stays the value before
+    return substitute(a, e, map);
+  };
+  for (std::size_t i : order) {
+    Assignment& as = w.assignments[i];
+    if (!reads[i].empty()) as.value = resolve(as.value, pres[i]);
+    resolved[as.target] = as.value;
+  }
+  for (auto& [v, value] : w.reinits) {
+    std::vector<std::size_t> r;
+    std::vector<Expr> p;
+    clause_reads(a, w, value, r, p);
+    if (!r.empty()) value = resolve(value, p);
+  }
 }
 
 /// What a flat variable became.
@@ -625,6 +705,7 @@ void Builder::when_clause(const ast::Expr& condition, const ast::EquationBranch&
               "only `v = expr` and reinit(x, expr) are supported inside when-clauses");
       }
     }
+    resolve_within_clause(dae_.arena, w);
     dae_.whens.push_back(std::move(w));
   }
 }

@@ -346,3 +346,19 @@ TEST_CASE("a preferred variable that cannot be a state leaves the others preferr
   std::sort(states.begin(), states.end());
   CHECK(states == std::vector<std::string>{"s2", "s_rel", "v2", "v_rel"});
 }
+
+TEST_CASE("a when-clause's equations read each other's new values; change() sees another clause's", "[events]") {
+  auto model = compiled_model("e2e_table_clauses", {{kData + "TableClauses.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  const std::pair<double, double> expected[] = {{0.5, 0}, {1.5, 10}, {2.5, 20}, {3.5, 30}, {4.5, 40}};
+  for (std::size_t k = 0; k < std::size(expected); ++k) {
+    const auto [stop, y] = expected[k];
+    const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, stop, 10), tight());
+    INFO(r.message);
+    REQUIRE(r.ok());
+    INFO("t = " << stop);
+    CHECK(discrete_value(*model, "y") == y);
+    CHECK(discrete_value(*model, "count") == static_cast<double>(k));
+    CHECK(discrete_value(*model, "nextTime") == (k < 4 ? static_cast<double>(k + 1) : stop - 0.5 + 100));
+  }
+}
