@@ -411,7 +411,11 @@ public:
     f_.on_varying_index = [this](const Expr &index, int n) {
       std::string atom;
       double offset = 0;
-      if (atom_plus_offset(f_, index, atom, offset))
+      if (!atom_plus_offset(f_, index, atom, offset))
+        return;
+      if (pending_)
+        pending_->push_back({atom, 1 - offset, n - offset});
+      else
         narrow(decisions_, atom, 1 - offset, n - offset);
     };
     exec(body);
@@ -425,6 +429,43 @@ private:
   ClassNode *cls_ = nullptr;
   LoopEnv env_;
   bool returned_ = false, broke_ = false;
+  /// Bounds that the subscripts of a condition being flattened would give.
+  /// A guard before them (`j <= n and x > a[j]`) may keep them from being
+  /// evaluated, so they hold only where the condition is decided true and
+  /// has no `or` (every part of it was evaluated).
+  struct IndexBound {
+    std::string atom;
+    double lo, hi;
+  };
+  std::vector<IndexBound> *pending_ = nullptr;
+
+  /// condition(c), with the bounds its subscripts give in `out`.
+  ExprPtr condition_with_bounds(const Expr &c, std::vector<IndexBound> &out) {
+    struct Restore {
+      std::vector<IndexBound> *&slot, *saved;
+      ~Restore() { slot = saved; }
+    } restore{pending_, pending_};
+    pending_ = &out;
+    return condition(c);
+  }
+
+  /// Applies `bounds` of condition `source` if it held (see pending_).
+  void condition_held(const Expr &source, bool value, const std::vector<IndexBound> &bounds) {
+    if (!value)
+      return;
+    std::vector<const Expr *> work{&source};
+    while (!work.empty()) {
+      const Expr *e = work.back();
+      work.pop_back();
+      if (e->kind == ExprKind::Binary && e->op == Op::Or)
+        return;
+      for (const auto &a : e->args)
+        if (a)
+          work.push_back(a.get());
+    }
+    for (const IndexBound &b : bounds)
+      narrow(decisions_, b.atom, b.lo, b.hi);
+  }
 
   [[noreturn]] void unsupported(SourceRange r, const std::string &what) { throw InlineUnsupported{r, what}; }
 
@@ -588,12 +629,14 @@ private:
       exec(b.body);
       return;
     }
-    ExprPtr c = condition(*b.condition);
+    std::vector<IndexBound> bounds;
+    ExprPtr c = condition_with_bounds(*b.condition, bounds);
     // Parameters that already sized arrays (a filter's `order`) decide now:
     // the other branches may index past those sizes.
     if (!is_literal(*c) && (literals_only(*c) || f_.already_evaluated(*c)))
       c = ast::make_bool(f_.eval(*c, b.condition->range) != 0, b.condition->range);
     if (is_literal(*c)) {
+      condition_held(*b.condition, c->number != 0, bounds);
       if (c->number != 0)
         exec(b.body);
       else
@@ -607,7 +650,9 @@ private:
     for (std::size_t k = i; k < branches.size(); ++k)
       jumps = jumps || has_jump(branches[k].body);
     if (jumps) {
-      if (decide(*c))
+      const bool held = decide(*c);
+      condition_held(*b.condition, held, bounds);
+      if (held)
         exec(b.body);
       else
         exec_if(branches, i + 1);
@@ -671,10 +716,13 @@ private:
     for (long n = 0;; ++n) {
       if (n > kMaxWhileIterations)
         unsupported(st.range, "the while-loop runs more than 100000 times");
-      ExprPtr c = condition(*st.value);
+      std::vector<IndexBound> bounds;
+      ExprPtr c = condition_with_bounds(*st.value, bounds);
       if (!is_literal(*c) && f_.is_constant(*c)) // parameters: their values now
         c = ast::make_bool(f_.eval(*c, st.value->range) != 0, st.value->range);
-      if (is_literal(*c) ? c->number == 0 : !decide(*c))
+      const bool held = is_literal(*c) ? c->number != 0 : decide(*c);
+      condition_held(*st.value, held, bounds);
+      if (!held)
         return;
       exec(st.body);
       if (returned_)

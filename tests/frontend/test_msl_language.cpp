@@ -724,6 +724,25 @@ TEST_CASE("a while-loop from a varying row ends where its subscripts leave the t
   CHECK(contains(s, "k = if j < 3 and time >= (if j == 1 then 0 else if j == 2 then 1 else 2) then "
                     "if j + 1 < 3 and time >= (if j + 1 == 1 then 0 else if j + 1 == 2 then 1 else 2) then "
                     "j + 1 + 1 else j + 1 else j;"));
+  // A guard before the subscript (`j <= n and x > a[j]`): a[j] is evaluated only
+  // where the guard holds, so the way out at j = n + 1 stays (k = 4 for time > 2).
+  const std::string g = flat(R"(
+    function countAbove
+      input Real a[:];
+      input Real x;
+      input Integer first;
+      output Integer j;
+    algorithm
+      j := first;
+      while j <= size(a, 1) and x > a[j] loop
+        j := j + 1;
+      end while;
+    end countAbove;
+    model G
+      Integer j0 = if time > 5 then 2 else 1;
+      Integer k = countAbove({0, 1, 2}, time, j0);
+    end G;)");
+  CHECK(contains(g, "then j0 + 1 + 1 + 1 else j0 + 1 + 1 else j0 + 1 else j0;"));
 }
 
 TEST_CASE("algorithm sections of models that assign each variable once are equations", "[msl][algorithm]") {
