@@ -3,6 +3,7 @@
 #include "mo/frontend/printer.hpp"
 
 #include <fmt/format.h>
+#include <set>
 
 namespace mo::frontend::detail {
 
@@ -93,7 +94,11 @@ bool Flattener::already_evaluated(const Expr &e) const {
           !model_->variables[x->var].value)
         return false;
     }
-    if (x->kind == ExprKind::Call)
+    // Pure numeric built-ins of such values are known too (`mod(m, 2) == 0`
+    // on the phase count that sized MultiPhase's symmetricOrientation).
+    static const std::set<std::string> kPure{"mod", "rem", "div", "integer", "floor", "ceil",
+                                             "abs", "sign", "min", "max", "sqrt"};
+    if (x->kind == ExprKind::Call && (x->args.empty() || !kPure.count(x->ref.str()) || !x->named.empty()))
       return false;
     for (const auto &a : x->args)
       if (a) work.push_back(a.get());

@@ -745,6 +745,38 @@ TEST_CASE("a while-loop from a varying row ends where its subscripts leave the t
   CHECK(contains(g, "then j0 + 1 + 1 + 1 else j0 + 1 + 1 else j0 + 1 else j0;"));
 }
 
+TEST_CASE("a built-in of a size parameter decides a function's branch now", "[msl][functions]") {
+  // MultiPhase's symmetricOrientation(m): `if mod(m, 2) == 0` on the phase
+  // count that sizes its output. Both branches ran before, and the even one
+  // indexed past the odd size (subscript 2 out of bounds 1..1).
+  const std::string s = flat(R"(
+    function halves
+      input Integer n;
+      output Real y[n];
+    algorithm
+      if mod(n, 2) == 0 then
+        if n == 2 then
+          y[1] := 1;
+          y[2] := 2;
+        else
+          y[1:integer(n/2)] := halves(integer(n/2));
+          y[integer(n/2) + 1:n] := halves(integer(n/2)) + fill(10, integer(n/2));
+        end if;
+      else
+        y := {k for k in 1:n};
+      end if;
+    end halves;
+    model M
+      parameter Integer n = 3;
+      parameter Integer m = 4;
+      parameter Real y[n] = halves(n);
+      parameter Real z[m] = halves(m);
+    end M;)");
+  CHECK(contains(s, "parameter Real `y[3]` = 3;"));
+  CHECK(contains(s, "parameter Real `z[2]` = 2;"));
+  CHECK(contains(s, "parameter Real `z[4]` = 2 + 10;"));
+}
+
 TEST_CASE("algorithm sections of models that assign each variable once are equations", "[msl][algorithm]") {
   const char *src = R"(
     model Alg
