@@ -223,10 +223,8 @@ void Flattener::flatten_equations(Instance &top) {
       continue; // a String has no number to evaluate to (eval_string compares them)
     if (i < static_cast<std::int32_t>(param_state_.size()) && param_state_[i] == 3)
       continue; // its binding already has an error
-    const bool computed = v.attr.fixed && v.attr.fixed->kind == ast::ExprKind::Boolean &&
-                          v.attr.fixed->number == 0.0; // by the initial equations
     if (!v.binding && !v.attr.start) {
-      if (!computed)
+      if (!v.free_parameter()) // else the initial equations compute it
         diags_.report(DiagId::ParameterWithoutValue, v.range, "parameter '" + v.name + "' has no value");
       continue;
     }

@@ -5,7 +5,7 @@
 // This is the form the MSL's filters use for their coefficients (through
 // tuple equations of functions of the order and the cut-off frequency); a
 // parameter defined implicitly, or from states at t0, stays an initial
-// equation (which lowering reports as not supported).
+// equation, and lowering makes the parameter an unknown of the initial system.
 #include "flattener.hpp"
 
 namespace mo::frontend::detail {
@@ -18,9 +18,7 @@ std::int32_t unbound_free_parameter(const ast::Expr &e, const flat::Model &m) {
   if (e.kind != ast::ExprKind::Ref || e.var < 0)
     return -1;
   const flat::Variable &v = m.variables[static_cast<std::size_t>(e.var)];
-  const ast::Expr *fixed = v.attr.fixed.get();
-  if (v.variability != ast::Variability::Parameter || v.binding || v.value || !fixed ||
-      fixed->kind != ast::ExprKind::Boolean || fixed->number != 0.0)
+  if (!v.free_parameter() || v.binding || v.value)
     return -1;
   return e.var;
 }

@@ -45,11 +45,7 @@ namespace {
 /// value is computed by the initial equations (the MSL's
 /// SaturatingInductor.Ipar). With a binding it stays a parameter of that
 /// value: Scilab's flat files mark every block parameter fixed = false.
-bool computed_parameter(const flat::Variable& v) {
-  const ast::Expr* fixed = v.attr.fixed.get();
-  return v.variability == ast::Variability::Parameter && !v.binding && fixed &&
-         fixed->kind == ast::ExprKind::Boolean && fixed->number == 0.0;
-}
+bool computed_parameter(const flat::Variable& v) { return v.free_parameter() && !v.binding; }
 
 /// The first Integer or Boolean parameter computed by the initial equations
 /// that `e` references, or -1 (a Real one is an unknown of the initial system).
@@ -299,7 +295,7 @@ private:
       // Evaluate = true: a structural value, used as a constant (the MSL's
       // HeatingNPN_OrGate sets every capacitance to CapVal = 0 so).
       s = {Slot::Value, none, dae_.arena.constant(v.value.value_or(0.0))};
-    } else if (v.variability == ast::Variability::Parameter && computed_parameter(v)) {
+    } else if (computed_parameter(v)) {
       // Real, fixed = false, no binding: an unknown of the initial system that keeps
       // its value, i.e. a state with der(p) = 0 (see computed_parameters()).
       DaeVar d;

@@ -42,6 +42,13 @@ struct Variable {
     return (variability == ast::Variability::Continuous ||
             variability == ast::Variability::Discrete) && !top_level_input;
   }
+  /// A parameter declared `fixed = false` (literally): the initial equations
+  /// may compute it.
+  bool free_parameter() const {
+    const ast::Expr *fixed = attr.fixed.get();
+    return variability == ast::Variability::Parameter && fixed &&
+           fixed->kind == ast::ExprKind::Boolean && fixed->number == 0.0;
+  }
 };
 
 /// One `name = value` of a class's `__mocompile` annotation.
