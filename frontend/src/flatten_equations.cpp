@@ -172,7 +172,10 @@ void Flattener::flatten_bindings() {
 void Flattener::flatten_equations(Instance &top) {
   flatten_bindings();
   // Instances were recorded in creation order: parents before children.
-  for (Instance *inst : all_instances_) {
+  // By index: a reference to an element of an expandable connector may
+  // instantiate it now (Flattener::present_member), appending instances.
+  for (std::size_t k = 0; k < all_instances_.size(); ++k) {
+    Instance *inst = all_instances_[k];
     for (auto &[eq, cls] : inst->equations) {
       try {
         equation(*eq, Scope{inst, cls, nullptr}, model_->equations);

@@ -116,6 +116,7 @@ std::unique_ptr<flat::Model> Flattener::run(const std::string &class_name) {
   }
   if (diags_.has_errors())
     return nullptr;
+  expand_connectors();
   flatten_equations(*top_);
   finish_connections();
   return std::move(model_);
@@ -202,6 +203,11 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
         continue; // instantiated when an earlier element looked it up
       it->second.started = true;
     }
+    if (inst.expandable && !inst.member_index.count(c->name)) {
+      // Present only once a connection or a reference needs it (member()).
+      potential_.emplace(MemberKey{&inst, c->name}, Potential{c, cls, mod, depth});
+      continue;
+    }
     if (auto it = inst.member_index.find(c->name); it != inst.member_index.end()) {
       diags_.report(DiagId::DuplicateDeclaration, c->range, "duplicate declaration of '" + c->name + "'");
       if (it->second->decl)
@@ -244,12 +250,26 @@ Instance *Flattener::member(Instance &inst, const std::string &name) {
     return it->second;
   auto later = later_members_.find({&inst, name});
   if (later == later_members_.end() || later->second.started)
-    return nullptr;
+    return inst.expandable ? present_member(inst, name) : nullptr;
   LaterMember m = later->second;
   later->second.started = true; // a cycle (a binding that needs its own element) finds nothing
   instantiate_member(inst, *m.comp, m.cls, *m.mod, m.depth);
   auto it = inst.member_index.find(name);
   return it == inst.member_index.end() ? nullptr : it->second;
+}
+
+Instance *Flattener::present_member(Instance &inst, const std::string &name) {
+  auto it = potential_.find({&inst, name});
+  if (it == potential_.end() || it->second.started)
+    return nullptr;
+  it->second.started = true;
+  const Potential &p = it->second;
+  instantiate_member(inst, *p.comp, p.cls, p.mod, p.depth);
+  auto m = inst.member_index.find(name);
+  if (m == inst.member_index.end())
+    return nullptr;
+  m->second->is_connector = true; // every element of an expandable connector is one (MLS 9.1.3)
+  return m->second;
 }
 
 Instance *Flattener::find_inner(const Instance &from, const std::string &name) {
@@ -262,7 +282,7 @@ Instance *Flattener::find_inner(const Instance &from, const std::string &name) {
 
 void Flattener::check_modifier_names(const Instance &inst, const Modifier &mod) {
   for (const auto &[name, sub] : mod.sub) {
-    if (inst.member_index.count(name) || inst.replaced.count(name))
+    if (inst.member_index.count(name) || inst.replaced.count(name) || potential_.count({&inst, name}))
       continue;
     std::string where = inst.decl ? "component '" + inst.decl->name + "' of type '" + inst.decl->type.str() + "'"
                                   : "class '" + (inst.cls ? inst.cls->path() : std::string("?")) + "'";
@@ -344,8 +364,7 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
                " and cannot be the type of a component");
     inst.is_connector = def.restriction == ast::Restriction::Connector ||
                         def.restriction == ast::Restriction::ExpandableConnector;
-    if (def.restriction == ast::Restriction::ExpandableConnector)
-      fail(DiagId::Unsupported, comp.type.range, "expandable connectors are not supported");
+    inst.expandable = def.restriction == ast::Restriction::ExpandableConnector;
   }
   parent.member_index[comp.name] = &inst;
   parent.members.push_back(std::move(child));
@@ -392,6 +411,7 @@ void Flattener::make_elements(Instance &inst, const ast::Component &comp, const 
     el->causality = inst.causality;
     el->is_flow = inst.is_flow;
     el->is_connector = inst.is_connector;
+    el->expandable = inst.expandable;
     el->is_enumeration = inst.is_enumeration;
     Modifier emod = element_modifier(mod, idx);
     if (rt.is_builtin) {

@@ -102,6 +102,10 @@ struct Instance {
   std::int32_t var = -1;   ///< scalar of a built-in type
   bool is_connector = false;
   bool is_flow = false;
+  /// An `expandable connector`: its declared elements are only potentially
+  /// present (Flattener::potential_) until a connection or a reference
+  /// needs them (flatten_expandable.cpp).
+  bool expandable = false;
   bool is_structured() const { return dims.empty() && var < 0; }
   /// Equations of the classes (and bases) of this instance, with the class
   /// each was written in (for lexical lookup).
@@ -218,6 +222,18 @@ public:
   using MemberKey = std::pair<const Instance *, std::string>; ///< instance and element name
   /// Components of instances under construction, by instance and name.
   std::map<MemberKey, LaterMember> later_members_;
+  /// The declared elements of expandable connectors, not present yet: by
+  /// instance and name, with the modifiers they would be instantiated with.
+  struct Potential {
+    const ast::Component *comp;
+    ClassNode *cls;
+    Modifier mod;
+    unsigned depth;
+    bool started = false;
+  };
+  std::map<MemberKey, Potential> potential_;
+  /// The potential element `name` of expandable `inst` made present, or null.
+  Instance *present_member(Instance &inst, const std::string &name);
   /// The `inner` element `name` of the nearest instance enclosing `from`, or null.
   Instance *find_inner(const Instance &from, const std::string &name);
 
@@ -303,6 +319,15 @@ public:
   void tuple_equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
   void equal_elements(const ast::Equation &eq, Tensor &l, Tensor &r, std::vector<ast::Equation> &out);
   void connect(const ast::Equation &eq, const Scope &s);
+  /// Expandable connectors (MLS 9.1.3), before any equation is flattened:
+  /// an element that a connect() names is made present (a declared one
+  /// instantiated, an undeclared one created with the type of the other
+  /// side), and connected expandable connectors get each other's elements,
+  /// to a fixed point (flatten_expandable.cpp).
+  void expand_connectors();
+  /// A new element `name` of expandable connector `bus`, of the type of
+  /// `like` (the other side of a connect), neither input nor output.
+  Instance *add_bus_member(Instance &bus, const std::string &name, const Instance &like, SourceRange where);
   /// An algorithm section executed on expressions (flatten_algorithms.cpp):
   /// appends `v = value` per assigned variable (when-clauses for those of
   /// `when` statements) to `out`; reports what it cannot express.
