@@ -279,15 +279,46 @@ bool bracket_scalar(const NonlinearBlock& b, double* w, double z0, double tolera
 
 }  // namespace
 
+namespace {
+
+/// Newton continues in time: it starts from the block's latest solution at a
+/// time not after this evaluation's. An integrator's rejected trial step
+/// far ahead (where a hysteresis has switched to its other solution) then
+/// does not decide the solution at the earlier times it retries.
+void start_from_past(const NonlinearBlock& block, double* w, BlockWorkspace& ws) {
+  auto it = ws.solutions.find(&block);
+  if (it == ws.solutions.end()) return;
+  auto& past = it->second;
+  while (!past.empty() && past.back().time > ws.time) past.pop_back();
+  if (past.empty()) return;
+  for (std::size_t i = 0; i < past.back().z.size(); ++i) w[block.unknowns[i]] = past.back().z[i];
+}
+
+void remember_solution(const NonlinearBlock& block, const double* w, BlockWorkspace& ws) {
+  constexpr std::size_t kKept = 16;
+  auto& past = ws.solutions[&block];
+  if (past.empty() || past.back().time < ws.time) {
+    if (past.size() == kKept) past.erase(past.begin());
+    past.push_back({ws.time, std::vector<double>(static_cast<std::size_t>(block.size))});
+  }
+  for (int i = 0; i < block.size; ++i) past.back().z[static_cast<std::size_t>(i)] = w[block.unknowns[i]];
+}
+
+}  // namespace
+
 bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws) {
   const auto n = static_cast<Size>(block.size);
+  start_from_past(block, w, ws);
   for (Size i = 0; i < n; ++i) {  // a NaN left by an earlier failure is no start
     double& z = w[block.unknowns[i]];
     z = within_bounds(block, i, std::isfinite(z) ? z : 0.0);
   }
   const double z0 = w[block.unknowns[0]];
   const std::string why = newton(block, w, ws);
-  if (why.empty() || (n == 1 && bracket_scalar(block, w, z0, ws.newton.residual_tolerance))) return true;
+  if (why.empty() || (n == 1 && bracket_scalar(block, w, z0, ws.newton.residual_tolerance))) {
+    remember_solution(block, w, ws);
+    return true;
+  }
   return fail(block.description, block.unknowns, n, w, ws, why);
 }
 

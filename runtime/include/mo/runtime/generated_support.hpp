@@ -15,6 +15,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 namespace mo::runtime::generated {
@@ -86,6 +87,13 @@ struct BlockWorkspace {
   std::vector<double> factored, lu;
   std::vector<int> lu_pivots;
   double time = 0.0;                ///< model time of the current evaluation, for messages
+  /// Per nonlinear block, its last solutions at increasing times: an
+  /// evaluation at time t starts Newton from the latest one not after t.
+  struct Solution {
+    double time;
+    std::vector<double> z;
+  };
+  std::unordered_map<const NonlinearBlock*, std::vector<Solution>> solutions;
   std::string failure;              ///< why the first failed block of this evaluation failed; empty if none
   NewtonOptions newton;             ///< settings
 };
