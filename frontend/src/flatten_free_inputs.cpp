@@ -13,6 +13,8 @@
 // (flat::equation_count), with the when-clause rule of balance_rows().
 #include "flattener.hpp"
 
+#include <functional>
+
 #include <algorithm>
 #include <deque>
 #include <set>
@@ -71,12 +73,33 @@ private:
 std::vector<std::vector<std::int32_t>> balance_rows(const flat::Model &m) {
   std::vector<std::vector<std::int32_t>> rows;
   std::set<std::int32_t> when_assigned;
+  // What a when-branch assigns: `v = e`, `(a, b) = f(...)`, and the same
+  // through the branches of an if-equation inside it (the MSL's
+  // CombiTimeTable: `if next < DBL_MAX then nextTimeEvent = ... else ...`).
+  std::function<void(const std::vector<ast::Equation> &)> assigned = [&](const std::vector<ast::Equation> &body) {
+    for (const auto &s : body) {
+      if (s.kind == ast::EquationKind::If) {
+        for (const auto &branch : s.branches)
+          assigned(branch.body);
+        continue;
+      }
+      if (s.kind != ast::EquationKind::Simple || !s.lhs)
+        continue;
+      std::vector<const ast::Expr *> targets{s.lhs.get()};
+      if (s.lhs->kind == ast::ExprKind::Tuple) {
+        targets.clear();
+        for (const auto &a : s.lhs->args)
+          if (a) targets.push_back(a.get());
+      }
+      for (const ast::Expr *t : targets)
+        if (t->kind == ast::ExprKind::Ref && t->var >= 0 && when_assigned.insert(t->var).second)
+          rows.push_back({t->var});
+    }
+  };
   for (const auto &eq : m.equations) {
     if (eq.kind == ast::EquationKind::When) {
       for (const auto &branch : eq.branches)
-        for (const auto &s : branch.body)
-          if (s.kind == ast::EquationKind::Simple && s.lhs && s.lhs->var >= 0 && when_assigned.insert(s.lhs->var).second)
-            rows.push_back({s.lhs->var});
+        assigned(branch.body);
       continue;
     }
     const std::size_t n = flat::equation_count(eq);

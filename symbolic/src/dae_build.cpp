@@ -2,6 +2,7 @@
 #include "dae_build.hpp"
 
 #include <cmath>
+#include <map>
 #include <unordered_set>
 
 #include "dae_expr.hpp"
@@ -191,13 +192,19 @@ private:
   }
 
   void mark_discrete() {
-    for (const ast::Equation& eq : f_.equations) {
-      if (eq.kind != ast::EquationKind::When) continue;
+    // What a when-clause assigns, through if-equations inside it too.
+    std::vector<const ast::Equation*> work;
+    for (const ast::Equation& eq : f_.equations)
+      if (eq.kind == ast::EquationKind::When) work.push_back(&eq);
+    while (!work.empty()) {
+      const ast::Equation& eq = *work.back();
+      work.pop_back();
       for (const auto& br : eq.branches)
-        for (const ast::Equation& s : br.body)
-          if (s.kind == ast::EquationKind::Simple && s.lhs->kind == ast::ExprKind::Ref &&
-              s.lhs->var >= 0)
+        for (const ast::Equation& s : br.body) {
+          if (s.kind == ast::EquationKind::If) work.push_back(&s);
+          if (s.kind == ast::EquationKind::Simple && s.lhs->kind == ast::ExprKind::Ref && s.lhs->var >= 0)
             discrete_.insert(s.lhs->var);
+        }
     }
     mark_event_equations();
   }
@@ -432,6 +439,10 @@ private:
   std::optional<std::vector<Expr>> if_residuals(const ast::Equation& eq);
   void when_equation(const ast::Equation& eq);
   void when_clause(const ast::Expr& condition, const ast::EquationBranch& branch);
+  /// The assignments of an if-equation inside a when-clause, as `v =
+  /// if c1 then e1 elseif ... else en` per variable; false (reported) unless
+  /// every branch, an else included, assigns the same variables.
+  bool when_if(const ast::Equation& eq, std::map<std::int32_t, std::pair<Expr, Expr>>& out);
   void outputs();
 
   const flat::Model& f_;
@@ -696,14 +707,55 @@ void Builder::when_clause(const ast::Expr& condition, const ast::EquationBranch&
         w.reinits.emplace_back(slot.var, conv_->convert(*s.lhs->args[1]));
       } else if (s.kind == ast::EquationKind::Call && s.lhs->ref.str() == "assert") {
         continue;
-      } else {
+      } else if (std::map<std::int32_t, std::pair<Expr, Expr>> chosen;
+                 s.kind == ast::EquationKind::If && when_if(s, chosen)) {
+        for (auto& [var, assignment] : chosen) w.assignments.push_back(Assignment{assignment.first, assignment.second});
+      } else if (s.kind != ast::EquationKind::If) {
         error(DiagId::UnsupportedInLowering, s.range,
-              "only `v = expr` and reinit(x, expr) are supported inside when-clauses");
+              "only `v = expr`, reinit(x, expr) and if-equations of them are supported inside when-clauses");
       }
     }
     resolve_within_clause(dae_.arena, w);
     dae_.whens.push_back(std::move(w));
   }
+}
+
+bool Builder::when_if(const ast::Equation& eq, std::map<std::int32_t, std::pair<Expr, Expr>>& out) {
+  std::vector<std::map<std::int32_t, std::pair<Expr, Expr>>> per_branch;
+  for (const auto& br : eq.branches) {
+    auto& assigned = per_branch.emplace_back();
+    for (const ast::Equation& s : br.body) {
+      if (s.kind == ast::EquationKind::Simple && s.lhs->kind == ast::ExprKind::Ref && s.lhs->var >= 0) {
+        assigned[s.lhs->var] = {ref(*s.lhs), conv_->convert(*s.rhs)};
+      } else if (s.kind == ast::EquationKind::If) {
+        std::map<std::int32_t, std::pair<Expr, Expr>> inner;
+        if (!when_if(s, inner)) return false;
+        for (auto& [var, a] : inner) assigned[var] = a;
+      } else if (!(s.kind == ast::EquationKind::Call && s.lhs->ref.str() == "assert")) {
+        error(DiagId::UnsupportedInLowering, s.range,
+              "only `v = expr` and if-equations of them are supported in an if-equation inside a when-clause");
+        return false;
+      }
+    }
+  }
+  const bool has_else = !eq.branches.empty() && !eq.branches.back().condition;
+  for (const auto& assigned : per_branch) {
+    bool same = has_else && assigned.size() == per_branch.front().size();
+    for (const auto& [var, a] : assigned) same = same && per_branch.front().count(var);
+    if (!same) {
+      error(DiagId::UnsupportedInLowering, eq.range,
+            "an if-equation inside a when-clause needs an else branch, and every branch must assign "
+            "the same variables");
+      return false;
+    }
+  }
+  for (const auto& [var, last] : per_branch.back()) {
+    Expr value = last.second;
+    for (std::size_t b = eq.branches.size() - 1; b-- > 0;)
+      value = dae_.arena.select(conv_->convert(*eq.branches[b].condition), per_branch[b].at(var).second, value);
+    out[var] = {last.first, value};
+  }
+  return true;
 }
 
 void Builder::outputs() {

@@ -181,3 +181,15 @@ TEST_CASE("stick-slip friction: spring-mass with Coulomb friction slides, sticks
   CHECK(std::fabs(x.back() - phases.back().x) < 1e-6);
   WARN("stick-slip: " << phases.size() << " phases, final x = " << x.back() << ", max |x - exact| = " << worst);
 }
+
+TEST_CASE("an if-equation inside a when-clause assigns each of its variables (WhenIf)", "[events]") {
+  auto model = compiled_model("e2e_when_if", {{kData + "WhenIf.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  const std::pair<double, double> expected[] = {{1, 2}, {3, 4}, {5, 6}, {7, 8}, {9, 10}, {11, 10}, {13, 10}};
+  for (const auto& [stop, b] : expected) {
+    const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, stop, 10), tight());
+    INFO(r.message << " at t = " << stop);
+    REQUIRE(r.ok());
+    CHECK(discrete_value(*model, "b") == Approx(b));
+  }
+}

@@ -214,3 +214,19 @@ end R;
   CHECK(!other.ok());
   CHECK(other.diagnostics.find("unbalanced") != std::string::npos);
 }
+
+TEST_CASE("an if-equation inside a when-clause counts its variables in the balance", "[flatten]") {
+  const char *src = R"(
+model WhenIf
+  discrete Real a(start = 0, fixed = true), b(start = 0, fixed = true);
+equation
+  when time > pre(b) then
+    a = time;
+    if a < 10 then b = a; else b = 10; end if;
+  end when;
+end WhenIf;
+)";
+  Compiled c = compile_text(src);
+  INFO(c.diagnostics);
+  CHECK(c.ok()); // 2 equations for 2 unknowns; before: 1 for 2
+}
