@@ -155,7 +155,10 @@ private:
       if (!e || e->kind != ExprKind::Ref || e->var < 0)
         unsupported(target.range, "only variables (or elements of them) can be assigned");
       const ast::Variability k = m_.variables[e->var].variability;
-      if (k == ast::Variability::Parameter || k == ast::Variability::Constant)
+      // An initial algorithm computes parameters declared fixed = false,
+      // as initial equations do (the MSL's CombiTimeTable: t_min).
+      const bool computed = alg_.initial && m_.variables[e->var].free_parameter();
+      if ((k == ast::Variability::Parameter && !computed) || k == ast::Variability::Constant)
         unsupported(target.range, "'" + m_.variables[e->var].name + "' is a parameter or constant");
       out.push_back(e->var);
     }

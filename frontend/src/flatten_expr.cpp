@@ -431,6 +431,16 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
       branches.push_back(expr(*e.args[i + 1], s));
     }
     Tensor result = expr(*e.args.back(), s);
+    // Branches of different sizes need conditions known now (MLS 10.6.13:
+    // `if size(offset, 1) == 1 then ones(n) * offset[1] else offset`).
+    const bool sizes_differ = std::any_of(branches.begin(), branches.end(),
+                                          [&](const Tensor &b) { return b.dims != result.dims; });
+    if (sizes_differ && std::all_of(conds.begin(), conds.end(), [&](const ExprPtr &c) { return is_constant(*c); })) {
+      for (std::size_t i = 0; i < conds.size(); ++i)
+        if (eval(*conds[i], e.range) != 0)
+          return std::move(branches[i]);
+      return result;
+    }
     for (std::size_t i = conds.size(); i-- > 0;) {
       if (branches[i].dims != result.dims)
         fail(DiagId::TypeMismatch, e.range, "the branches of this if-expression have different sizes");

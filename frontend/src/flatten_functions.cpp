@@ -1002,6 +1002,14 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
                      std::max<std::size_t>(wanted, 1)));
 
   if (def.is_external) {
+    if (def.external_language == "C") {
+      Tensor provided;
+      if (provided_external(def.external_function, args, call, s, provided)) {
+        std::vector<Tensor> out;
+        out.push_back(std::move(provided));
+        return out;
+      }
+    }
     if (def.external_language != "builtin")
       fail(DiagId::Unsupported, call.range,
            "external function '" + fn_name + "' (language \"" + def.external_language +

@@ -315,6 +315,10 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
     throw Reported{};
   Modifier full = rt.mod;
   merge_into(full, mod);
+  if (!rt.is_builtin && is_external_object_class(rt.cls)) {
+    declare_external_object(parent, comp, rt.cls, full);
+    return;
+  }
 
   auto child = std::make_unique<Instance>();
   Instance &inst = *child;

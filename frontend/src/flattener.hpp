@@ -313,6 +313,23 @@ public:
   std::set<std::pair<Instance *, ClassNode *>> inherited_; ///< bases instantiated per instance
   std::set<std::pair<const Instance *, std::string>> disabled_; ///< conditional components switched off
 
+  // -- external objects and the tables of ModelicaStandardTables (flatten_tables.cpp)
+  /// True if `cls` extends the predefined `ExternalObject`.
+  bool is_external_object_class(ClassNode *cls);
+  /// Records component `comp` of external-object class `cls` with its
+  /// binding (the constructor call) as a member of `parent`; no variable.
+  void declare_external_object(Instance &parent, const ast::Component &comp, ClassNode *cls, const Modifier &mod);
+  /// A call of an external "C" function that the tool provides itself
+  /// (ModelicaStandardTables' tables): its output as an expression of the
+  /// external object's table, in `out`; false if `c_name` is none of them.
+  /// `args` are the call's arguments matched to the function's inputs.
+  bool provided_external(const std::string &c_name, const std::vector<const ast::Expr *> &args,
+                         const ast::Expr &call, const Scope &s, Tensor &out);
+  struct ExternalObject;
+  std::map<const Instance *, std::shared_ptr<ExternalObject>> external_objects_;
+  /// The table behind the external-object reference `ref` (flattened once).
+  std::shared_ptr<ExternalObject> external_object(const ast::Expr &ref, const Scope &s);
+
   // -- equations and connections (flatten_equations.cpp, flatten_connect.cpp)
   void flatten_equations(Instance &inst);
   void equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);

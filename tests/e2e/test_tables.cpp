@@ -1,0 +1,86 @@
+// Tables through external objects (frontend/src/flatten_tables.cpp): the
+// functions of ModelicaStandardTables become expressions of the table, so
+// a time table's integral, its time events, a 1-D table of a signal and the
+// sensitivity to a table entry follow their closed forms (data/Tables.mo).
+#include <cmath>
+
+#include "e2e/support.hpp"
+#include "mo/runtime/simulate.hpp"
+
+using namespace mo;
+using namespace mo::e2e;
+
+namespace {
+
+const std::string kTables = kData + "Tables.mo";
+
+/// Tables.Integrals' closed forms (see the model).
+double exact_a(double t) {
+  const double s = t - 0.5;
+  if (s < 0) return 0;
+  if (s <= 1) return s * s;
+  if (s <= 3) return 1 + 5 * (s - 1) - (s - 1) * (s - 1);
+  return 7 + (s - 3);
+}
+double exact_b(double t) {
+  const double tau = std::fmod(t, 2.0);
+  return 4 * std::floor(t / 2) + (tau < 1 ? tau : 1 + 3 * (tau - 1));
+}
+
+}  // namespace
+
+TEST_CASE("a time table's segments, jump, hold and period integrate exactly", "[tables]") {
+  auto model = compiled_model("e2e_tables_integrals", {{kTables, "Tables.Integrals", {}, true}, {}});
+  const auto grid = runtime::OutputGrid::uniform(0, 5, 100);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto a = column(r.trajectory, "a"), b = column(r.trajectory, "b");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    INFO("t = " << grid.times[k]);
+    CHECK(a[k] == Approx(exact_a(grid.times[k])).margin(1e-8));
+    CHECK(b[k] == Approx(exact_b(grid.times[k])).margin(1e-8));
+  }
+  // The time events: lin's start time, its jump and its end (0.5, 1.5,
+  // 3.5); con's every row time, period after period.
+  for (double t : {0.5, 1.0, 1.5, 2.0, 3.0, 3.5, 4.0, 5.0}) {
+    INFO("event at " << t);
+    CHECK(std::any_of(r.event_times.begin(), r.event_times.end(), [&](double e) { return std::abs(e - t) < 1e-9; }));
+  }
+}
+
+TEST_CASE("the sensitivity to a table entry follows the interpolation", "[tables]") {
+  // a' = lin.y; on s in [1, 3] lin.y = 5 + (v - 5)(s - 1)/2 with v =
+  // lin.table[4,2], held at v after: da/dv = (s - 1)^2/4, then 1 + (s - 3).
+  const std::string par = "lin.table[4,2]";
+  auto model = compiled_model("e2e_tables_integrals_d", {{kTables, "Tables.Integrals", {}, true}, {par}});
+  const auto grid = runtime::OutputGrid::uniform(0, 5, 50);
+  auto options = tight();
+  options.sensitivities.method = runtime::SensitivityMethod::model_states;
+  options.sensitivities.parameters = {parameter(model->info(), par)};
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, options);
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto row = static_cast<Eigen::Index>(*model->info().state_index("a"));
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const double s = grid.times[k] - 0.5;
+    const double exact = s <= 1 ? 0 : s <= 3 ? (s - 1) * (s - 1) / 4 : 1 + (s - 3);
+    INFO("t = " << grid.times[k]);
+    CHECK(r.state_sensitivities[k](row, 0) == Approx(exact).margin(1e-7));
+  }
+}
+
+TEST_CASE("a 1-D table of a signal interpolates and continues its end segments", "[tables]") {
+  auto model = compiled_model("e2e_tables_map", {{kTables, "Tables.Map", {}, true}, {}});
+  const auto grid = runtime::OutputGrid::uniform(0, 6, 120);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto u = column(r.trajectory, "u"), y = column(r.trajectory, "y");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const double v = u[k];
+    const double exact = v < 1 ? v : v < 2 ? 1 + 3 * (v - 1) : 4 + 3 * (v - 2);
+    INFO("u = " << v);
+    CHECK(y[k] == Approx(exact).margin(1e-12));
+  }
+}
