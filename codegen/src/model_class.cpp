@@ -145,7 +145,9 @@ public:
   void event_indicators(double t, std::span<const double> x, std::span<const double> u,
                         std::span<const double> p, std::span<double> g) override {
     load(t, x, u, p);
+    ws_.follow_time = false;
     section_steps();
+    ws_.follow_time = true;
     run(section_index_crossings, nullptr);
     for (std::size_t i = 0; i < ng; ++i) g[i] = w_[static_cast<std::size_t>(crossing_slots[i])];
   }

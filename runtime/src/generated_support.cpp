@@ -308,7 +308,7 @@ void remember_solution(const NonlinearBlock& block, const double* w, BlockWorksp
 
 bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws) {
   const auto n = static_cast<Size>(block.size);
-  start_from_past(block, w, ws);
+  if (ws.follow_time) start_from_past(block, w, ws);
   for (Size i = 0; i < n; ++i) {  // a NaN left by an earlier failure is no start
     double& z = w[block.unknowns[i]];
     z = within_bounds(block, i, std::isfinite(z) ? z : 0.0);
@@ -316,7 +316,7 @@ bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws)
   const double z0 = w[block.unknowns[0]];
   const std::string why = newton(block, w, ws);
   if (why.empty() || (n == 1 && bracket_scalar(block, w, z0, ws.newton.residual_tolerance))) {
-    remember_solution(block, w, ws);
+    if (ws.follow_time) remember_solution(block, w, ws);
     return true;
   }
   return fail(block.description, block.unknowns, n, w, ws, why);

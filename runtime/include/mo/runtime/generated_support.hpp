@@ -94,6 +94,7 @@ struct BlockWorkspace {
     std::vector<double> z;
   };
   std::unordered_map<const NonlinearBlock*, std::vector<Solution>> solutions;
+  bool follow_time = true;  ///< false: Newton starts from w as it is, and the solutions are kept
   std::string failure;              ///< why the first failed block of this evaluation failed; empty if none
   NewtonOptions newton;             ///< settings
 };
