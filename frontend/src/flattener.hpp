@@ -313,7 +313,8 @@ public:
   std::set<std::pair<Instance *, ClassNode *>> inherited_; ///< bases instantiated per instance
   std::set<std::pair<const Instance *, std::string>> disabled_; ///< conditional components switched off
 
-  // -- external objects and the tables of ModelicaStandardTables (flatten_tables.cpp)
+  // -- external objects and the tables of ModelicaStandardTables
+  //    (flatten_external_objects.cpp, flatten_tables.cpp)
   /// True if `cls` extends the predefined `ExternalObject`.
   bool is_external_object_class(ClassNode *cls);
   /// Records component `comp` of external-object class `cls` with its
@@ -329,6 +330,10 @@ public:
   std::map<const Instance *, std::shared_ptr<ExternalObject>> external_objects_;
   /// The table behind the external-object reference `ref` (flattened once).
   std::shared_ptr<ExternalObject> external_object(const ast::Expr &ref, const Scope &s);
+  /// Fills `t` from its constructor call (inline or from a file).
+  void build_table(ExternalObject &t);
+  /// Checks `t`'s sizes, keys, columns and options; takes its keys.
+  void check_table(ExternalObject &t);
 
   // -- equations and connections (flatten_equations.cpp, flatten_connect.cpp)
   void flatten_equations(Instance &inst);

@@ -3,6 +3,8 @@
 // a time table's integral, its time events, a 1-D table of a signal and the
 // sensitivity to a table entry follow their closed forms (data/Tables.mo).
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 
 #include "e2e/support.hpp"
 #include "mo/runtime/simulate.hpp"
@@ -82,5 +84,43 @@ TEST_CASE("a 1-D table of a signal interpolates and continues its end segments",
     const double exact = v < 1 ? v : v < 2 ? 1 + 3 * (v - 1) : 4 + 3 * (v - 2);
     INFO("u = " << v);
     CHECK(y[k] == Approx(exact).margin(1e-12));
+  }
+}
+
+TEST_CASE("the MSL's CombiTimeTable, CombiTable1Ds and CombiTable2D follow their closed forms", "[tables][msl]") {
+  namespace fs = std::filesystem;
+  std::string shared;
+  if (fs::is_directory(fs::path(MO_SOURCE_DIR) / ".." / "shared" / "third_party"))
+    shared = (fs::path(MO_SOURCE_DIR) / ".." / "shared").string();
+  else if (const char* env = std::getenv("MO_SHARED_DIR"); env && fs::is_directory(env))
+    shared = env;
+  if (shared.empty()) {
+    WARN("SKIPPED: no ../shared/third_party (set MO_SHARED_DIR)");
+    return;
+  }
+  // Found by Modelica's lookup on MODELICAPATH, as a user runs it.
+  const char* before = std::getenv("MODELICAPATH");
+  const std::string saved = before ? before : "";
+  ::setenv("MODELICAPATH", (shared + "/third_party/msl-3.2.2").c_str(), 1);
+  auto model = compiled_model("e2e_tables_msl", {{kData + "MslTables.mo", "MslTables", {}, true}, {}});
+  if (before)
+    ::setenv("MODELICAPATH", saved.c_str(), 1);
+  else
+    ::unsetenv("MODELICAPATH");
+  const auto grid = runtime::OutputGrid::uniform(0, 4, 80);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto x = column(r.trajectory, "x");
+  const auto triangle = column(r.trajectory, "triangle"), m = column(r.trajectory, "m_y"),
+             m2 = column(r.trajectory, "m2_y");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const double t = grid.times[k], tau = std::fmod(t, 2.0), y = tau < 1 ? tau : 2 - tau, u = 3 * y;
+    const double s = t - 0.3;
+    INFO("t = " << t);
+    CHECK(triangle[k] == Approx(y).margin(1e-9));
+    CHECK(m[k] == Approx(u < 1 ? u : u < 2 ? 1 + 3 * (u - 1) : 4 + 3 * (u - 2)).margin(1e-9));
+    CHECK(m2[k] == Approx(y + 0.5).margin(1e-9));
+    CHECK(x[k] == Approx(s < 0 ? t : t + 5 * s + s * s / 4).margin(1e-7));
   }
 }
