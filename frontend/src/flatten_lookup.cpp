@@ -95,7 +95,7 @@ std::vector<std::pair<const ast::Extends *, ClassNode *>> Flattener::bases(Class
       if (ext.base.parts.size() == 1 && builtin_type(ext.base.parts[0], t))
         continue; // `extends Real` in a type: handled as a short class would be
       if (ext.base.parts.size() == 1 && ext.base.parts[0] == "ExternalObject" && !ext.base.global)
-        continue; // the predefined base of external objects (flatten_tables.cpp)
+        continue; // the predefined base of external objects (flatten_external_objects.cpp)
       if (report)
         diags_.report(DiagId::UnknownClass, ext.base.range,
                       "unknown class '" + ext.base.str() + "' in extends clause");
