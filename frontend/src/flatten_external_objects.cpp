@@ -277,12 +277,16 @@ void Flattener::check_table(ExternalObject &t) {
   const int points = two_d ? std::min(t.rows, t.cols) - 1 : t.rows;
   if (t.smoothness == 2 && points <= 2)
     t.smoothness = 1;
-  if (t.smoothness == 2)
-    fail(DiagId::Unsupported, where,
-         "table of '" + t.name + "': smoothness = ContinuousDerivative (Akima splines) is not supported; "
-         "LinearSegments and ConstantSegments are");
   if (two_d && t.smoothness != 1)
-    fail(DiagId::Unsupported, where, "table of '" + t.name + "': a 2-D table is provided with LinearSegments only");
+    fail(DiagId::Unsupported, where,
+         "table of '" + t.name + "': a 2-D table is provided with smoothness = LinearSegments only "
+         "(not ContinuousDerivative's Akima splines, not ConstantSegments)");
+  if (t.smoothness == 2)
+    for (std::size_t i = 1; i < t.key.size(); ++i)
+      if (t.key[i] == t.key[i - 1])
+        fail(DiagId::EvaluationError, where,
+             fmt::format("table of '{}': a spline (ContinuousDerivative) needs strictly increasing keys ({} twice)",
+                         t.name, t.key[i]));
   const bool time_table = t.kind == ExternalObject::Kind::TimeTable;
   if (time_table && t.extrapolation == 3 && t.rows > 1 && t.key.back() == t.key.front())
     fail(DiagId::EvaluationError, where, "table of '" + t.name + "': a periodic table needs a period > 0");

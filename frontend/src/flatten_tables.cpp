@@ -16,12 +16,15 @@
 // - CombiTable1D: the same tree in the input u, continued linearly outside.
 // - CombiTable2D: bilinear, continued linearly outside.
 //
-// Akima splines (smoothness = ContinuousDerivative) are not provided.
+// Akima splines (smoothness = ContinuousDerivative) in 1-D and time tables
+// follow the C library's coefficients; 2-D splines are not provided.
 #include "external_object.hpp"
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
+#include <optional>
 #include <functional>
 #include <limits>
 
@@ -68,15 +71,84 @@ ExprPtr line(const Flattener::ExternalObject &t, const std::vector<double> &key,
   return bin(Op::Add, t.at(r0, c), bin(Op::Mul, std::move(slope), bin(Op::Sub, x.clone(), num(key[r0]))));
 }
 
+/// Akima's spline through column c (Akima 1970, as the C library computes
+/// it: divided differences continued by two on each side, a node's slope
+/// the weighted mean of its neighbours' differences): per segment i, y =
+/// y_i + ((c0 s + c1) s + c2) s with s = x - key_i. Expressions of the
+/// table's entries, so sensitivities to them follow.
+struct Akima {
+  std::vector<std::array<ExprPtr, 3>> c;
+  /// The slope at the last key (for continuing the spline beyond it).
+  ExprPtr end_slope(const Flattener::ExternalObject &t) const {
+    const std::size_t i = c.size() - 1;
+    const double dx = t.key[i + 1] - t.key[i];
+    ExprPtr cubic = bin(Op::Mul, bin(Op::Add, bin(Op::Mul, num(3 * dx), c[i][0]->clone()),
+                                     bin(Op::Mul, num(2.0), c[i][1]->clone())),
+                        num(dx));
+    return bin(Op::Add, std::move(cubic), c[i][2]->clone());
+  }
+};
+
+Akima akima(const Flattener::ExternalObject &t, int col) {
+  const int n = t.rows; // >= 3
+  std::vector<ExprPtr> d(static_cast<std::size_t>(n + 3));
+  auto D = [&](int i) { return d[static_cast<std::size_t>(i)]->clone(); };
+  for (int i = 0; i < n - 1; ++i)
+    d[static_cast<std::size_t>(i + 2)] =
+        bin(Op::Div, bin(Op::Sub, t.at(i + 1, col), t.at(i, col)), num(t.key[i + 1] - t.key[i]));
+  auto combine = [&](double a, int i, double b, int j) {
+    return bin(Op::Sub, bin(Op::Mul, num(a), D(i)), bin(Op::Mul, num(b), D(j)));
+  };
+  d[0] = combine(3, 2, 2, 3);
+  d[1] = combine(2, 2, 1, 3);
+  d[static_cast<std::size_t>(n + 1)] = combine(2, n, 1, n - 1);
+  d[static_cast<std::size_t>(n + 2)] = combine(3, n, 2, n - 1);
+  // The slope at key i: weights |d[i+3] - d[i+2]| and |d[i+1] - d[i]|.
+  auto slope = [&](int i) {
+    auto w = [&](int a, int b) { return call1("abs", bin(Op::Sub, D(a), D(b))); };
+    ExprPtr total = bin(Op::Add, w(i + 3, i + 2), w(i + 1, i));
+    ExprPtr weighted = bin(Op::Div, bin(Op::Add, bin(Op::Mul, w(i + 3, i + 2), D(i + 1)), bin(Op::Mul, w(i + 1, i), D(i + 2))),
+                           total->clone());
+    ExprPtr mean = bin(Op::Mul, num(0.5), bin(Op::Add, D(i + 1), D(i + 2)));
+    return if_then(no_event(bin(Op::Gt, std::move(total), num(0.0))), std::move(weighted), std::move(mean));
+  };
+  Akima out;
+  for (int i = 0; i < n - 1; ++i) {
+    const double dx = t.key[i + 1] - t.key[i];
+    ExprPtr c2 = slope(i), next = slope(i + 1);
+    ExprPtr c1 = bin(Op::Div,
+                     bin(Op::Sub, bin(Op::Sub, bin(Op::Mul, num(3.0), D(i + 2)), bin(Op::Mul, num(2.0), c2->clone())),
+                         next->clone()),
+                     num(dx));
+    ExprPtr c0 = bin(Op::Div, bin(Op::Sub, bin(Op::Add, c2->clone(), std::move(next)), bin(Op::Mul, num(2.0), D(i + 2))),
+                     num(dx * dx));
+    out.c.push_back({std::move(c0), std::move(c1), std::move(c2)});
+  }
+  return out;
+}
+
+/// Segment i of column c at x: constant, linear or the spline's cubic.
+ExprPtr segment(const Flattener::ExternalObject &t, int c, int i, const Expr &x, const Akima *spline) {
+  if (t.smoothness == 3)
+    return t.at(i, c);
+  if (!spline)
+    return line(t, t.key, i, i + 1, c, x);
+  const auto &k = spline->c[static_cast<std::size_t>(i)];
+  ExprPtr s = bin(Op::Sub, x.clone(), num(t.key[i]));
+  ExprPtr poly = bin(Op::Add, bin(Op::Mul, k[0]->clone(), s->clone()), k[1]->clone());
+  poly = bin(Op::Add, bin(Op::Mul, std::move(poly), s->clone()), k[2]->clone());
+  return bin(Op::Add, t.at(i, c), bin(Op::Mul, std::move(poly), std::move(s)));
+}
+
 /// Rows' values along `key` (1-D and time tables): segments lo..hi-1 as a
 /// balanced tree; segment i is [key_i, key_i+1) (left: (key_i, key_i+1]).
 ExprPtr segments(const Flattener::ExternalObject &t, int c, const Expr &x, bool left, int lo, int hi,
-                 bool constant) {
+                 const Akima *spline) {
   if (hi - lo == 1)
-    return constant ? t.at(lo, c) : line(t, t.key, lo, lo + 1, c, x);
+    return segment(t, c, lo, x, spline);
   const int mid = (lo + hi) / 2;
-  return if_then(below(x, t.key[mid], left), segments(t, c, x, left, lo, mid, constant),
-                 segments(t, c, x, left, mid, hi, constant));
+  return if_then(below(x, t.key[mid], left), segments(t, c, x, left, lo, mid, spline),
+                 segments(t, c, x, left, mid, hi, spline));
 }
 
 /// Column c of a 1-D or time table at x, with its extrapolation (periodic
@@ -85,10 +157,16 @@ ExprPtr column_at(const Flattener::ExternalObject &t, int c, const Expr &x, bool
   const int n = t.rows;
   if (n == 1)
     return t.at(0, c);
-  const bool constant = t.smoothness == 3;
-  ExprPtr inside = segments(t, c, x, left, 0, n - 1, constant);
+  std::optional<Akima> spline;
+  if (t.smoothness == 2)
+    spline = akima(t, c);
+  ExprPtr inside = segments(t, c, x, left, 0, n - 1, spline ? &*spline : nullptr);
   ExprPtr before, after;
-  if (extrapolation == 2) { // through the last two points
+  if (extrapolation == 2 && spline) { // the spline continued with its end slopes
+    ExprPtr from_first = bin(Op::Sub, x.clone(), num(t.key[0])), from_last = bin(Op::Sub, x.clone(), num(t.key[n - 1]));
+    before = bin(Op::Add, t.at(0, c), bin(Op::Mul, spline->c.front()[2]->clone(), std::move(from_first)));
+    after = bin(Op::Add, t.at(n - 1, c), bin(Op::Mul, spline->end_slope(t), std::move(from_last)));
+  } else if (extrapolation == 2) { // through the last two points
     before = line(t, t.key, 0, 1, c, x);
     after = line(t, t.key, n - 2, n - 1, c, x);
   } else {

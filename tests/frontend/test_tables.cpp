@@ -52,14 +52,14 @@ end Missing;
   fs::remove_all(dir);
 }
 
-TEST_CASE("tables: Akima splines, decreasing times and unknown constructors are refused", "[flatten][tables]") {
-  Compiled spline = tables("Spline", R"(
-model Spline
-  Tables.Source s(table = [0, 0; 1, 1; 2, 0], smoothness = 2);
-end Spline;
+TEST_CASE("tables: a spline's jump, decreasing times and unknown constructors are refused", "[flatten][tables]") {
+  Compiled spline = tables("Jump", R"(
+model Jump
+  Tables.Source s(table = [0, 0; 1, 1; 1, 2; 2, 0], smoothness = 2);
+end Jump;
 )");
   CHECK_FALSE(spline.ok());
-  CHECK(spline.diagnostics.find("smoothness = ContinuousDerivative (Akima splines) is not supported") !=
+  CHECK(spline.diagnostics.find("a spline (ContinuousDerivative) needs strictly increasing keys (1 twice)") !=
         std::string::npos);
 
   Compiled backwards = tables("Backwards", R"(

@@ -108,4 +108,19 @@ package Tables
   protected
     Table1D id = Table1D("NoName", "NoName", table, {2}, 1);
   end Map;
+  // Akima splines (smoothness = 2, the MSL's ContinuousDerivative) through
+  // the same rows: a time table continued by its end slopes after t = 5,
+  // and a 1-D table of u = time - 1, continued on both sides.
+  model Spline
+    parameter Real table[:, :] = [0, 0; 1, 1; 2, 4; 3, 3; 5, 0];
+    Source s(table = table, smoothness = 2, extrapolation = 2);
+    output Real y = s.y;
+    output Real u = time - 1;
+    output Real z = lookup(id, 1, u);
+    Real area(start = 0, fixed = true) "so that the model has a state to carry sensitivities";
+  protected
+    Table1D id = Table1D("NoName", "NoName", table, {2}, 2);
+  equation
+    der(area) = y;
+  end Spline;
 end Tables;
