@@ -18,6 +18,7 @@ struct Flattener::ExternalObject {
   std::string name;
   SourceRange range;
   bool built = false;
+  bool failed = false; ///< building it reported an error (once)
   // The table.
   Kind kind = Kind::TimeTable;
   int rows = 0, cols = 0;

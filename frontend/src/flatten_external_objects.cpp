@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
 #include <fstream>
 #include <functional>
 #include <map>
@@ -73,10 +74,10 @@ bool read_text_table(const std::string &path, const std::string &name, int &rows
       try {
         std::size_t used = 0;
         values.push_back(std::stod(word, &used));
-        if (used != word.size())
+        if (used != word.size() || !std::isfinite(values.back()))
           throw std::invalid_argument(word);
       } catch (...) {
-        why = "'" + word + "' in table '" + name + "' of '" + path + "' is not a number";
+        why = "'" + word + "' in table '" + name + "' of '" + path + "' is not a finite number";
         return false;
       }
     }
@@ -131,9 +132,16 @@ std::shared_ptr<Flattener::ExternalObject> Flattener::external_object(const Expr
     fail(DiagId::Unsupported, ref.range,
          "this argument must name an external object component (a table's tableID) directly");
   std::shared_ptr<ExternalObject> t = external_objects_.at(found[0]);
+  if (t->failed)
+    throw Reported{}; // reported at its first use
   if (!t->built) {
-    build_table(*t);
-    check_table(*t);
+    try {
+      build_table(*t);
+      check_table(*t);
+    } catch (Reported &) {
+      t->failed = true;
+      throw;
+    }
     t->built = true;
   }
   return t;

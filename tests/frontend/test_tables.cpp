@@ -49,6 +49,15 @@ end Missing;
 )");
   CHECK_FALSE(missing.ok());
   CHECK(missing.diagnostics.find("no table 'double nothere(rows, columns)'") != std::string::npos);
+
+  write_file(file.string(), "#1\ndouble profile(2, 2)\n0 1\n1 nan\n");
+  Compiled nan = tables("NotFinite", R"(
+model NotFinite
+  Tables.Source s(table = fill(0.0, 0, 2), fileName = ")" + file.string() + R"(", tableName = "profile");
+end NotFinite;
+)");
+  CHECK_FALSE(nan.ok());
+  CHECK(nan.diagnostics.find("'nan' in table 'profile'") != std::string::npos);
   fs::remove_all(dir);
 }
 
@@ -68,7 +77,9 @@ model Backwards
 end Backwards;
 )");
   CHECK_FALSE(backwards.ok());
-  CHECK(backwards.diagnostics.find("its first column must increase (1 after 2)") != std::string::npos);
+  const std::string once = "its first column must increase (1 after 2)";
+  CHECK(backwards.diagnostics.find(once) != std::string::npos);
+  CHECK(backwards.diagnostics.find(once, backwards.diagnostics.find(once) + 1) == std::string::npos);
 
   Compiled unknown = compile_text(R"(
 class Handle
