@@ -1,5 +1,7 @@
 #include "mo/frontend/ast.hpp"
 
+#include <cmath>
+
 #include <vector>
 
 namespace mo::frontend::ast {
@@ -126,6 +128,53 @@ ExprPtr Expr::clone() const {
     }
   }
   return root;
+}
+
+bool same_expr(const Expr &a, const Expr &b) {
+  // Iterative, like clone(): pairs still to compare.
+  std::vector<std::pair<const Expr *, const Expr *>> work{{&a, &b}};
+  auto push = [&work](const ExprPtr &x, const ExprPtr &y) {
+    if (!x || !y)
+      return !x && !y;
+    work.emplace_back(x.get(), y.get());
+    return true;
+  };
+  while (!work.empty()) {
+    auto [x, y] = work.back();
+    work.pop_back();
+    if (x->kind != y->kind || x->op != y->op || x->var != y->var || x->text != y->text ||
+        x->ref.global != y->ref.global || x->ref.parts.size() != y->ref.parts.size() ||
+        x->args.size() != y->args.size() || x->named.size() != y->named.size() ||
+        x->iterators.size() != y->iterators.size() || x->rows.size() != y->rows.size())
+      return false;
+    if (!(x->number == y->number) && !(std::isnan(x->number) && std::isnan(y->number)))
+      return false;
+    for (std::size_t i = 0; i < x->ref.parts.size(); ++i) {
+      const RefPart &p = x->ref.parts[i], &q = y->ref.parts[i];
+      if (p.name != q.name || p.subscripts.size() != q.subscripts.size())
+        return false;
+      for (std::size_t k = 0; k < p.subscripts.size(); ++k)
+        if (!push(p.subscripts[k], q.subscripts[k]))
+          return false;
+    }
+    for (std::size_t i = 0; i < x->args.size(); ++i)
+      if (!push(x->args[i], y->args[i]))
+        return false;
+    for (std::size_t i = 0; i < x->named.size(); ++i)
+      if (x->named[i].name != y->named[i].name || !push(x->named[i].value, y->named[i].value))
+        return false;
+    for (std::size_t i = 0; i < x->iterators.size(); ++i)
+      if (x->iterators[i].name != y->iterators[i].name || !push(x->iterators[i].range, y->iterators[i].range))
+        return false;
+    for (std::size_t i = 0; i < x->rows.size(); ++i) {
+      if (x->rows[i].size() != y->rows[i].size())
+        return false;
+      for (std::size_t k = 0; k < x->rows[i].size(); ++k)
+        if (!push(x->rows[i][k], y->rows[i][k]))
+          return false;
+    }
+  }
+  return true;
 }
 
 ExprPtr make_real(double v, SourceRange r) {

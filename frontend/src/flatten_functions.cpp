@@ -677,7 +677,7 @@ private:
       for (std::size_t k = 0; k < t.elems.size(); ++k) {
         if (!a.elems[k])
           continue;
-        if (!t.elems[k] || print_expr(*a.elems[k]) == print_expr(*t.elems[k])) {
+        if (!t.elems[k] || ast::same_expr(*a.elems[k], *t.elems[k])) {
           t.elems[k] = std::move(a.elems[k]);
           continue;
         }
@@ -967,7 +967,7 @@ std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &si
       if (yes[k].dims != no[k].dims)
         throw InlineUnsupported{call.range, "an output has different sizes on different ways through the algorithm"};
       for (std::size_t j = 0; j < yes[k].elems.size(); ++j) {
-        if (print_expr(*yes[k].elems[j]) == print_expr(*no[k].elems[j]))
+        if (ast::same_expr(*yes[k].elems[j], *no[k].elems[j]))
           continue;
         auto e = std::make_unique<Expr>(ExprKind::If, call.range);
         e->args.push_back(node.condition->clone());

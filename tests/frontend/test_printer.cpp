@@ -52,3 +52,23 @@ TEST_CASE("identifiers are quoted only when they must be", "[printer]") {
   CHECK(quote_name("'my var'") == "'my var'");
   CHECK(quote_name("end") == "`end`");
 }
+
+TEST_CASE("same_expr compares structure, names and numbers, not source ranges", "[printer]") {
+  using namespace mo::frontend::ast;
+  auto sum = [](double k, const char *name) {
+    std::vector<ExprPtr> args;
+    args.push_back(make_binary(Op::Mul, make_real(k), make_ref(name)));
+    return make_call("sin", std::move(args));
+  };
+  ExprPtr a = sum(2, "x"), b = sum(2, "x");
+  b->range.begin = 40; // ranges differ
+  CHECK(same_expr(*a, *b));
+  CHECK(same_expr(*a, *a->clone()));
+  CHECK_FALSE(same_expr(*a, *sum(3, "x")));
+  CHECK_FALSE(same_expr(*a, *sum(2, "y")));
+  ExprPtr c = sum(2, "x");
+  c->ref.parts[0].name = "cos";
+  CHECK_FALSE(same_expr(*a, *c));
+  CHECK_FALSE(same_expr(*make_binary(Op::Add, make_real(1), make_real(2)),
+                        *make_binary(Op::Sub, make_real(1), make_real(2))));
+}

@@ -93,6 +93,10 @@ struct Expr {
   ExprPtr clone() const;
 };
 
+/// True if `a` and `b` are the same expression: kinds, operators, numbers,
+/// names and operands alike (source ranges aside). Iterative.
+bool same_expr(const Expr &a, const Expr &b);
+
 ExprPtr make_real(double v, SourceRange r = {});
 ExprPtr make_integer(double v, SourceRange r = {});
 ExprPtr make_bool(bool v, SourceRange r = {});
