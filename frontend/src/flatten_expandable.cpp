@@ -50,27 +50,28 @@ static bool bus_side(Flattener &f, const ast::ComponentRef &ref, Instance &scope
   return cur != nullptr;
 }
 
-Instance *Flattener::add_bus_member(Instance &bus, const std::string &name, const Instance &like,
-                                    SourceRange where) {
-  if (!like.dims.empty())
-    fail(DiagId::Unsupported, where,
-         "connecting the array '" + like.flat + "' to the undeclared element '" + bus.flat + "." + name +
-             "' of an expandable connector is not supported; declare the element in the connector");
-  auto child = std::make_unique<Instance>();
-  Instance &inst = *child;
-  inst.name = name;
-  inst.flat = bus.flat + "." + name;
-  inst.parent = &bus;
+/// Makes `inst` (named, placed and registered by the caller) an instance of
+/// `like`'s type: a variable of its base type, an array of such elements,
+/// or a structured instance of its class, without modifiers.
+void Flattener::instantiate_like(Instance &inst, const Instance &like) {
   inst.decl = like.decl;
   inst.cls = like.cls;
-  inst.variability = std::max(like.variability, bus.variability);
   inst.is_flow = like.is_flow;
   inst.is_connector = true;
   inst.is_enumeration = like.is_enumeration;
   inst.expandable = like.expandable;
-  bus.member_index[name] = &inst;
-  bus.members.push_back(std::move(child));
-  if (like.var >= 0) {
+  inst.dims = like.dims;
+  if (!like.dims.empty()) {
+    for (const auto &el : like.elements) {
+      auto child = std::make_unique<Instance>();
+      child->name = el->name;
+      child->flat = inst.flat + el->name;
+      child->parent = inst.parent;
+      child->variability = inst.variability;
+      instantiate_like(*child, *el);
+      inst.elements.push_back(std::move(child));
+    }
+  } else if (like.var >= 0) {
     ResolvedType rt;
     rt.is_builtin = true;
     rt.builtin = model_->variables[like.var].type;
@@ -79,6 +80,18 @@ Instance *Flattener::add_bus_member(Instance &bus, const std::string &name, cons
   } else {
     instantiate_structured(inst, like.cls, Modifier{}, 1);
   }
+}
+
+Instance *Flattener::add_bus_member(Instance &bus, const std::string &name, const Instance &like, SourceRange) {
+  auto child = std::make_unique<Instance>();
+  Instance &inst = *child;
+  inst.name = name;
+  inst.flat = bus.flat + "." + name;
+  inst.parent = &bus;
+  inst.variability = std::max(like.variability, bus.variability);
+  bus.member_index[name] = &inst;
+  bus.members.push_back(std::move(child));
+  instantiate_like(inst, like);
   return &inst;
 }
 

@@ -69,3 +69,42 @@ end M;
   CHECK(c.diagnostics.find("7:3: error: connect() of two undeclared elements 'a.x' and 'b.y'") !=
         std::string::npos);
 }
+
+TEST_CASE("expandable connectors: an array connected to an undeclared element", "[flatten][expandable]") {
+  const char *src = R"(
+connector RealOutput = output Real;
+connector RealInput = input Real;
+expandable connector Bus
+end Bus;
+model Sensors
+  RealOutput y[3];
+  Bus bus;
+equation
+  y = {time, 2 * time, 3 * time};
+  connect(y, bus.v);
+end Sensors;
+model Sum
+  RealInput u[3];
+  Bus bus;
+  Real total = sum(u);
+equation
+  connect(bus.v, u);
+end Sum;
+model Rig
+  Sensors s;
+  Sum a;
+  Bus bus;
+equation
+  connect(s.bus, bus);
+  connect(a.bus, bus);
+end Rig;
+)";
+  Compiled c = compile_text(src, "Rig");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string s = c.model->print();
+  INFO(s);
+  for (const char *v : {"bus.v[1]", "bus.v[3]", "s.bus.v[2]", "a.bus.v[3]"})
+    CHECK(c.model->find(v) >= 0);
+  CHECK(c.model->find("bus.v[4]") < 0);
+}
