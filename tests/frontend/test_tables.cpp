@@ -42,20 +42,17 @@ end FromFile;
     CHECK(s.find(v) != std::string::npos);
   CHECK(s.find(" 9") == std::string::npos); // the other table's value
 
-  Compiled missing = tables("Missing", R"(
-model Missing
-  Tables.Source s(table = fill(0.0, 0, 2), fileName = ")" + file.string() + R"(", tableName = "nothere");
-end Missing;
-)");
+  // A model with nothing but a source reading table `name` of the file.
+  auto source_of = [&](const std::string &name) {
+    return tables("Reads", "model Reads\n  Tables.Source s(table = fill(0.0, 0, 2), fileName = \"" + file.string() +
+                               "\", tableName = \"" + name + "\");\nend Reads;\n");
+  };
+  Compiled missing = source_of("nothere");
   CHECK_FALSE(missing.ok());
   CHECK(missing.diagnostics.find("no table 'double nothere(rows, columns)'") != std::string::npos);
 
   write_file(file.string(), "#1\ndouble profile(2, 2)\n0 1\n1 nan\n");
-  Compiled nan = tables("NotFinite", R"(
-model NotFinite
-  Tables.Source s(table = fill(0.0, 0, 2), fileName = ")" + file.string() + R"(", tableName = "profile");
-end NotFinite;
-)");
+  Compiled nan = source_of("profile");
   CHECK_FALSE(nan.ok());
   CHECK(nan.diagnostics.find("'nan' in table 'profile'") != std::string::npos);
   fs::remove_all(dir);
