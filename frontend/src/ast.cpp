@@ -217,6 +217,12 @@ ExprPtr make_call(std::string fn, std::vector<ExprPtr> args, SourceRange r) {
   return e;
 }
 
+ExprPtr make_call1(std::string fn, ExprPtr a, SourceRange r) {
+  std::vector<ExprPtr> args;
+  args.push_back(std::move(a));
+  return make_call(std::move(fn), std::move(args), r);
+}
+
 std::string TypeName::str() const {
   std::string s = global ? "." : "";
   for (std::size_t i = 0; i < parts.size(); ++i)

@@ -43,12 +43,6 @@ Values clone_values(const Values &v) {
   return out;
 }
 
-ExprPtr call1(const char *fn, ExprPtr a, SourceRange r) {
-  std::vector<ExprPtr> args;
-  args.push_back(std::move(a));
-  return ast::make_call(fn, std::move(args), r);
-}
-
 ExprPtr var_ref(const flat::Model &m, std::int32_t v, SourceRange r) {
   ExprPtr e = ast::make_ref(m.variables[v].name, r);
   e->var = v;
@@ -174,7 +168,7 @@ private:
   ExprPtr start_value(std::int32_t v) {
     const flat::Variable &x = m_.variables[v];
     if (!alg_.initial && is_discrete(v))
-      return call1("pre", var_ref(m_, v, alg_.range), alg_.range);
+      return ast::make_call1("pre", var_ref(m_, v, alg_.range), alg_.range);
     if (x.attr.start)
       return x.attr.start->clone();
     return x.type == flat::BaseType::Boolean ? ast::make_bool(false, alg_.range) : ast::make_real(0, alg_.range);
@@ -211,11 +205,11 @@ private:
     if (it != vals.end())
       return it->second->clone();
     if (branch_vars_ && branch_vars_->count(v))
-      return call1("pre", var_ref(m_, v, r), r);
+      return ast::make_call1("pre", var_ref(m_, v, r), r);
     if (plain_.count(v))
       return start_value(v);
     if (when_vars_.count(v) && !when_done_.count(v))
-      return alg_.initial ? start_value(v) : call1("pre", var_ref(m_, v, r), r);
+      return alg_.initial ? start_value(v) : ast::make_call1("pre", var_ref(m_, v, r), r);
     return nullptr;
   }
 
@@ -478,7 +472,7 @@ private:
       branch_out_ = nullptr;
       for (std::int32_t v : order) {
         auto it = branch.find(v);
-        emit(v, it == branch.end() ? call1("pre", var_ref(m_, v, b.range), b.range) : std::move(it->second), b.range,
+        emit(v, it == branch.end() ? ast::make_call1("pre", var_ref(m_, v, b.range), b.range) : std::move(it->second), b.range,
              fb.body);
       }
       eq.branches.push_back(std::move(fb));

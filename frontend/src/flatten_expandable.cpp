@@ -82,7 +82,7 @@ void Flattener::instantiate_like(Instance &inst, const Instance &like) {
   }
 }
 
-Instance *Flattener::add_bus_member(Instance &bus, const std::string &name, const Instance &like, SourceRange) {
+Instance *Flattener::add_bus_member(Instance &bus, const std::string &name, const Instance &like) {
   auto child = std::make_unique<Instance>();
   Instance &inst = *child;
   inst.name = name;
@@ -96,18 +96,15 @@ Instance *Flattener::add_bus_member(Instance &bus, const std::string &name, cons
 }
 
 void Flattener::expand_connectors() {
-  if (potential_.empty() && std::none_of(all_instances_.begin(), all_instances_.end(),
-                                         [](const Instance *i) { return i->expandable; }))
+  if (std::none_of(all_instances_.begin(), all_instances_.end(), [](const Instance *i) { return i->expandable; }))
     return;
   // Connected expandable connectors, in the order found (pairs may grow).
   std::vector<std::pair<Instance *, Instance *>> pairs;
   std::set<std::pair<Instance *, Instance *>> paired;
-  std::vector<SourceRange> pair_ranges;
-  auto add_pair = [&](Instance *a, Instance *b, SourceRange r) {
+  auto add_pair = [&](Instance *a, Instance *b) {
     if (a == b || !paired.insert({std::min(a, b), std::max(a, b)}).second)
       return false;
     pairs.emplace_back(a, b);
-    pair_ranges.push_back(r);
     return true;
   };
   // Connections written at the top of an equation section (those in loops
@@ -127,9 +124,9 @@ void Flattener::expand_connectors() {
                    side[1].bus->flat + "." + side[1].name + "' of expandable connectors: one side must exist");
         for (int j = 0; j < 2; ++j)
           if (!side[j].inst)
-            side[j].inst = add_bus_member(*side[j].bus, side[j].name, *side[1 - j].inst, eq->range);
+            side[j].inst = add_bus_member(*side[j].bus, side[j].name, *side[1 - j].inst);
         if (side[0].inst->expandable && side[1].inst->expandable)
-          add_pair(side[0].inst, side[1].inst, eq->range);
+          add_pair(side[0].inst, side[1].inst);
       } catch (Reported &) {
       }
     }
@@ -148,10 +145,10 @@ void Flattener::expand_connectors() {
             const std::size_t before = to->members.size();
             Instance *other = member(*to, element->name);
             if (!other)
-              other = add_bus_member(*to, element->name, *element, pair_ranges[k]);
+              other = add_bus_member(*to, element->name, *element);
             changed = changed || to->members.size() != before;
             if (element->expandable && other->expandable)
-              changed = add_pair(element, other, pair_ranges[k]) || changed;
+              changed = add_pair(element, other) || changed;
           } catch (Reported &) {
           }
         }

@@ -18,7 +18,6 @@ namespace mo::frontend::detail {
 
 using ast::Expr;
 using ast::ExprKind;
-using ast::ExprPtr;
 using ast::Op;
 
 namespace {

@@ -42,16 +42,7 @@ constexpr double kNoEvent = std::numeric_limits<double>::max(); // DBL_MAX: no f
 
 ExprPtr num(double v) { return ast::make_real(v); }
 ExprPtr bin(Op op, ExprPtr a, ExprPtr b) { return ast::make_binary(op, std::move(a), std::move(b)); }
-ExprPtr no_event(ExprPtr e) {
-  std::vector<ExprPtr> a;
-  a.push_back(std::move(e));
-  return ast::make_call("noEvent", std::move(a));
-}
-ExprPtr call1(const char *fn, ExprPtr e) {
-  std::vector<ExprPtr> a;
-  a.push_back(std::move(e));
-  return ast::make_call(fn, std::move(a));
-}
+ExprPtr no_event(ExprPtr e) { return ast::make_call1("noEvent", std::move(e)); }
 ExprPtr if_then(ExprPtr c, ExprPtr a, ExprPtr b) {
   auto e = std::make_unique<Expr>(ExprKind::If);
   e->args.push_back(std::move(c));
@@ -105,7 +96,7 @@ Akima akima(const Flattener::ExternalObject &t, int col) {
   d[static_cast<std::size_t>(n + 2)] = combine(3, n, 2, n - 1);
   // The slope at key i: weights |d[i+3] - d[i+2]| and |d[i+1] - d[i]|.
   auto slope = [&](int i) {
-    auto w = [&](int a, int b) { return call1("abs", bin(Op::Sub, D(a), D(b))); };
+    auto w = [&](int a, int b) { return ast::make_call1("abs", bin(Op::Sub, D(a), D(b))); };
     ExprPtr total = bin(Op::Add, w(i + 3, i + 2), w(i + 1, i));
     ExprPtr weighted = bin(Op::Div, bin(Op::Add, bin(Op::Mul, w(i + 3, i + 2), D(i + 1)), bin(Op::Mul, w(i + 1, i), D(i + 2))),
                            total->clone());
@@ -184,7 +175,7 @@ ExprPtr column_at(const Flattener::ExternalObject &t, int c, const Expr &x, bool
 /// x mapped into one period [k0, kn) (left: (k0, kn]).
 ExprPtr periodic(const Flattener::ExternalObject &t, const Expr &x, bool left) {
   const double k0 = t.key.front(), period = t.key.back() - k0;
-  ExprPtr cycles = call1(left ? "ceil" : "floor", bin(Op::Div, bin(Op::Sub, x.clone(), num(k0)), num(period)));
+  ExprPtr cycles = ast::make_call1(left ? "ceil" : "floor", bin(Op::Div, bin(Op::Sub, x.clone(), num(k0)), num(period)));
   ExprPtr shifted = bin(Op::Sub, x.clone(), bin(Op::Mul, num(period), no_event(std::move(cycles))));
   return left ? bin(Op::Add, std::move(shifted), num(period)) : std::move(shifted);
 }
@@ -251,7 +242,7 @@ ExprPtr time_table_next_event(const Flattener::ExternalObject &t, const Expr &ti
     next = num(kNoEvent);
   } else if (t.extrapolation == 3) {
     const double k0 = t.key.front(), period = t.key.back() - k0;
-    ExprPtr cycles = no_event(call1("floor", bin(Op::Div, bin(Op::Sub, s_now->clone(), num(k0)), num(period))));
+    ExprPtr cycles = no_event(ast::make_call1("floor", bin(Op::Div, bin(Op::Sub, s_now->clone(), num(k0)), num(period))));
     ExprPtr offset = bin(Op::Mul, num(period), std::move(cycles));
     ExprPtr within = bin(Op::Sub, s_now->clone(), offset->clone());
     next = bin(Op::Add, std::move(offset), next_key(event_keys(t), *within, num(t.key.back())));

@@ -349,7 +349,7 @@ public:
   void expand_connectors();
   /// A new element `name` of expandable connector `bus`, of the type of
   /// `like` (the other side of a connect), neither input nor output.
-  Instance *add_bus_member(Instance &bus, const std::string &name, const Instance &like, SourceRange where);
+  Instance *add_bus_member(Instance &bus, const std::string &name, const Instance &like);
   void instantiate_like(Instance &inst, const Instance &like);
   /// An algorithm section executed on expressions (flatten_algorithms.cpp):
   /// appends `v = value` per assigned variable (when-clauses for those of

@@ -104,6 +104,8 @@ ExprPtr make_ref(std::string name, SourceRange r = {});
 ExprPtr make_unary(Op op, ExprPtr a, SourceRange r = {});
 ExprPtr make_binary(Op op, ExprPtr a, ExprPtr b, SourceRange r = {});
 ExprPtr make_call(std::string fn, std::vector<ExprPtr> args, SourceRange r = {});
+/// `fn(a)`.
+ExprPtr make_call1(std::string fn, ExprPtr a, SourceRange r = {});
 
 /// A modification: `(a = 1, b(start = 2)) = binding`.
 struct ElementMod;
