@@ -31,10 +31,6 @@ public:
     std::vector<bool> inner(p_.sections.size(), false);
     for (const auto& b : p_.blocks)
       if (b.inner_section >= 0) inner[static_cast<std::size_t>(b.inner_section)] = true;
-    // The crossings of the section that runs a Newton block, for the
-    // relations inside the block's residuals (a torn block computes some
-    // unknowns explicitly there): its residual callback takes w only.
-    out_.runners += "thread_local const int* block_cross = nullptr;\n\n";
     // Inner (Newton) sections first: blocks refer to their runners.
     for (std::size_t i = 0; i < p_.sections.size(); ++i)
       if (inner[i]) inner_runner(i);
@@ -83,7 +79,7 @@ private:
   void inner_runner(std::size_t i) {
     const Section& s = p_.sections[i];
     const std::string calls = straight_line(s, 0, s.code.size());
-    out_.runners += fmt::format("void section_{}(double* w) {{\n  const int* cross = block_cross;\n{}}}\n\n",
+    out_.runners += fmt::format("void section_{}(double* w, const int* cross) {{\n  (void)cross;\n{}}}\n\n",
                                 i, calls);
   }
 
@@ -131,7 +127,7 @@ private:
       if (solve && s.code[k].op == Instruction::Op::LinearSolve)
         body += fmt::format("  ok = G::solve_linear(block{}, w, ws) && ok;\n", s.code[k].block);
       else if (solve)
-        body += fmt::format("  block_cross = cross;\n  ok = G::solve_nonlinear(block{}, w, ws) && ok;\n",
+        body += fmt::format("  ws.cross = cross;\n  ok = G::solve_nonlinear(block{}, w, ws) && ok;\n",
                             s.code[k].block);
     }
     out_.runners += fmt::format(

@@ -168,7 +168,7 @@ std::string newton(const NonlinearBlock& block, double* w, BlockWorkspace& ws) {
   const auto n = static_cast<Size>(block.size);
   const NewtonOptions& opt = ws.newton;
   prepare(ws, n);
-  block.evaluate(w);
+  block.evaluate(w, ws.cross);
   double norm = residual_norm(block, w);
   if (!std::isfinite(norm)) return "the residuals are not finite at the start guess " + iterate_text(block, w);
   for (int iteration = 0; iteration < opt.max_iterations; ++iteration) {
@@ -201,7 +201,7 @@ std::string newton(const NonlinearBlock& block, double* w, BlockWorkspace& ws) {
     for (int halving = 0; halving <= opt.max_halvings; ++halving, lambda *= 0.5) {
       for (Size i = 0; i < n; ++i)
         w[block.unknowns[i]] = within_bounds(block, i, ws.z[i] + lambda * ws.dz[i]);
-      block.evaluate(w);
+      block.evaluate(w, ws.cross);
       trial = scaled_norm(block, w, ws);
       if (trial < (1 - 1e-4 * lambda) * merit) break;
     }
@@ -217,9 +217,9 @@ std::string newton(const NonlinearBlock& block, double* w, BlockWorkspace& ws) {
 }
 
 /// The residual of a one-unknown block at z (finite or not).
-double scalar_residual(const NonlinearBlock& b, double* w, double z) {
+double scalar_residual(const NonlinearBlock& b, double* w, const int* cross, double z) {
   w[b.unknowns[0]] = z;
-  b.evaluate(w);
+  b.evaluate(w, cross);
   return w[b.residuals[0]];
 }
 
@@ -232,8 +232,8 @@ double scalar_residual(const NonlinearBlock& b, double* w, double z) {
 /// MSL's op-amps); a bracketed sign change is not lost. True with
 /// w[unknown] at the root; false where the sign changes by a jump (|r| left
 /// above `tolerance` and 1e-9 of its value at z0).
-bool bracket_scalar(const NonlinearBlock& b, double* w, double z0, double tolerance) {
-  const double f0 = scalar_residual(b, w, z0);
+bool bracket_scalar(const NonlinearBlock& b, double* w, const int* cross, double z0, double tolerance) {
+  const double f0 = scalar_residual(b, w, cross, z0);
   if (!std::isfinite(f0)) return false;
   if (f0 == 0.0) return true;
   const double scale = std::max(nominal_of(b, 0), std::fabs(z0));
@@ -244,7 +244,7 @@ bool bracket_scalar(const NonlinearBlock& b, double* w, double z0, double tolera
     for (int side = 0; side < 2 && !found; ++side) {
       const double z = within_bounds(b, 0, z0 + (side ? -1.0 : 1.0) * 1e-8 * scale * std::ldexp(1.0, k));
       if (z == last[side]) continue;  // on a bound
-      const double f = scalar_residual(b, w, z);
+      const double f = scalar_residual(b, w, cross, z);
       if (!std::isfinite(f)) continue;
       if ((f < 0) != (f_last[side] < 0) || f == 0.0) {
         lo = side ? z : last[side], flo = side ? f : f_last[side];
@@ -260,7 +260,7 @@ bool bracket_scalar(const NonlinearBlock& b, double* w, double z0, double tolera
     double z = (lo * fhi - hi * flo) / (fhi - flo);
     if (!(z > lo && z < hi)) z = lo + (hi - lo) / 2;
     if (!(z > lo && z < hi)) break;  // no double between them
-    const double f = scalar_residual(b, w, z);
+    const double f = scalar_residual(b, w, cross, z);
     if (!std::isfinite(f)) return false;
     if ((f < 0) == (fhi < 0)) {
       hi = z, fhi = f;
@@ -272,8 +272,8 @@ bool bracket_scalar(const NonlinearBlock& b, double* w, double z0, double tolera
       kept = -1;
     }
   }
-  const double f_lo = scalar_residual(b, w, lo), f_hi = scalar_residual(b, w, hi);
-  if (std::fabs(f_lo) <= std::fabs(f_hi)) scalar_residual(b, w, lo);
+  const double f_lo = scalar_residual(b, w, cross, lo), f_hi = scalar_residual(b, w, cross, hi);
+  if (std::fabs(f_lo) <= std::fabs(f_hi)) scalar_residual(b, w, cross, lo);
   return std::min(std::fabs(f_lo), std::fabs(f_hi)) <= std::max(tolerance, 1e-9 * std::fabs(f0));
 }
 
@@ -315,7 +315,7 @@ bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws)
   }
   const double z0 = w[block.unknowns[0]];
   const std::string why = newton(block, w, ws);
-  if (why.empty() || (n == 1 && bracket_scalar(block, w, z0, ws.newton.residual_tolerance))) {
+  if (why.empty() || (n == 1 && bracket_scalar(block, w, ws.cross, z0, ws.newton.residual_tolerance))) {
     if (ws.follow_time) remember_solution(block, w, ws);
     return true;
   }

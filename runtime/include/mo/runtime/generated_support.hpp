@@ -60,7 +60,9 @@ struct NonlinearBlock {
   const int* residuals;       ///< n slots receiving r(z) from evaluate
   const BlockEntry* entries;  ///< J entries, computed by evaluate too
   int num_entries;            ///< number of entries
-  void (*evaluate)(double* w);  ///< computes residuals and entries from w[unknowns]
+  /// Computes residuals and entries from w[unknowns]; `cross` is the crossing
+  /// state of the section that solves the block (BlockWorkspace::cross).
+  void (*evaluate)(double* w, const int* cross);
   const char* description;    ///< for messages
   const double* nominal = nullptr;  ///< n scales |z_i| (> 0), or null: 1
   const double* lower = nullptr;    ///< n lower bounds (min), or null: none
@@ -87,6 +89,11 @@ struct BlockWorkspace {
   std::vector<double> factored, lu;
   std::vector<int> lu_pivots;
   double time = 0.0;                ///< model time of the current evaluation, for messages
+  /// The crossing state of the section solving a nonlinear block, passed to
+  /// its evaluate (relations inside a torn block's explicit part). Not a
+  /// thread_local in the generated code: dynamic TLS in a dlopen()ed model
+  /// costs a call per access and crashes LeakSanitizer's scan (glibc 2.36).
+  const int* cross = nullptr;
   /// Per nonlinear block, its last solutions at increasing times: an
   /// evaluation at time t starts Newton from the latest one not after t.
   struct Solution {
