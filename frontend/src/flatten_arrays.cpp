@@ -161,8 +161,12 @@ Tensor Flattener::matrix_constructor(const Expr &e, const Scope &s) {
   std::vector<Tensor> rows;
   for (const auto &row : e.rows) {
     std::vector<Tensor> cells;
-    for (const auto &x : row)
-      cells.push_back(promote(expr(*x, s), 2));
+    for (const auto &x : row) {
+      Tensor cell = expr(*x, s);
+      if (cell.record)
+        no_record(cell, x->range, "a matrix constructor");
+      cells.push_back(promote(std::move(cell), 2));
+    }
     rows.push_back(cat_tensors(*this, 2, std::move(cells), e.range));
   }
   return cat_tensors(*this, 1, std::move(rows), e.range);
@@ -204,7 +208,13 @@ bool Flattener::array_function(const Expr &e, const Scope &s, Tensor &out) {
                        lo == hi ? std::to_string(lo) : fmt::format("{} to {}", lo, hi), hi == 1 ? "" : "s",
                        e.args.size()));
   };
-  auto arg = [&](std::size_t i) { return expr(*e.args[i], s); };
+  auto arg = [&](std::size_t i) {
+    Tensor t = expr(*e.args[i], s);
+    if (name != "size" && name != "ndims")
+      if (t.record)
+        no_record(t, e.args[i]->range, name + "()");
+    return t;
+  };
   if (!e.iterators.empty()) {
     if (name != "sum" && name != "product" && name != "min" && name != "max")
       fail(DiagId::Unsupported, r, "'" + name + "(... for ...)' is not a supported reduction");

@@ -301,6 +301,10 @@ void Flattener::tuple_equation(const ast::Equation &eq, const Scope &s, std::vec
 
 /// The scalar equations l[i] = r[i] (or l[i] rel r for a scalar constraint side).
 void Flattener::equal_elements(const ast::Equation &eq, Tensor &l, Tensor &r, std::vector<ast::Equation> &out) {
+  if (!l.record != !r.record || (l.record && !l.record->same_shape(*r.record)))
+    fail(DiagId::TypeMismatch, eq.range,
+         l.record && r.record ? "the two sides of this equation are records with different fields"
+                              : "one side of this equation is a record and the other is not");
   if (l.dims != r.dims && !(eq.kind == EquationKind::Constraint && r.is_scalar()))
     fail(DiagId::TypeMismatch, eq.range,
          fmt::format("the two sides of this equation have different sizes ({} and {})",

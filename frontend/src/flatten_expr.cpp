@@ -248,8 +248,21 @@ bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, So
 
 // ------------------------------------------------------------- expressions
 
+void Flattener::no_record(const Tensor &t, SourceRange where, const std::string &operation) {
+  if (t.record)
+    fail(DiagId::TypeMismatch, where,
+         "a record of type '" + t.record->cls->path() + "' cannot be an operand of " + operation);
+}
+
+void Flattener::no_record(const Tensor &t, SourceRange where, Op op) {
+  if (t.record)
+    no_record(t, where, std::string("'") + ast::op_text(op) + "'");
+}
+
 ExprPtr Flattener::scalar_expr(const Expr &e, const Scope &s) {
   Tensor t = expr(e, s);
+  if (t.record)
+    fail(DiagId::TypeMismatch, e.range, "expected a number, got a record of type '" + t.record->cls->path() + "'");
   if (!t.is_scalar())
     fail(DiagId::TypeMismatch, e.range, "expected a scalar, got an array of size " + dims_text(t.dims));
   return std::move(t.elems[0]);
@@ -262,6 +275,8 @@ static Tensor elementwise(Tensor a, const std::function<ExprPtr(ExprPtr)> &fn) {
 }
 
 static Tensor binary(Flattener &f, Op op, Tensor a, Tensor b, SourceRange r) {
+  f.no_record(a, r, op);
+  f.no_record(b, r, op);
   Op scalar_op = op == Op::ElemAdd ? Op::Add : op == Op::ElemSub ? Op::Sub : op == Op::ElemMul ? Op::Mul
                : op == Op::ElemDiv ? Op::Div : op == Op::ElemPow ? Op::Pow : op;
   auto spair = [&](ExprPtr x, ExprPtr y) { return ast::make_binary(scalar_op, std::move(x), std::move(y), r); };
@@ -378,23 +393,16 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
     if (Tensor chosen; s.inst && s.inst->member_index.count(e.ref.parts[0].name) && varying_subscript(e, s, chosen))
       return chosen;
     if (resolve_instances(e.ref, s, e.range, dims, insts)) {
+      if (!insts.empty() && insts[0]->var < 0 && is_record_instance(*insts[0]))
+        return record_value(insts, dims, e.range);
       Tensor t;
       t.dims = dims;
       for (Instance *inst : insts) {
         if (inst->var < 0)
           fail(DiagId::TypeMismatch, e.range,
                "'" + inst->flat + "' is a component of type '" + (inst->decl ? inst->decl->type.str() : "?") +
-                   "', not a number; only scalar variables can be used in expressions");
-        // No reference into model_->variables is held across eval_param:
-        // it can instantiate a later element (member()), which adds variables.
-        if (model_->variables[inst->var].variability == ast::Variability::Constant) {
-          const bool integral = model_->variables[inst->var].type != flat::BaseType::Real;
-          t.elems.push_back(literal(eval_param(inst->var, e.range), e.range, integral));
-          continue;
-        }
-        auto r = ast::make_ref(model_->variables[inst->var].name, e.range);
-        r->var = inst->var;
-        t.elems.push_back(std::move(r));
+                   "', not a number; only scalar variables and records can be used in expressions");
+        t.elems.push_back(variable_expr(inst->var, e.range));
       }
       return t;
     }
@@ -409,6 +417,7 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
     break; // below
   case ExprKind::Unary: {
     Tensor a = expr(*e.args[0], s);
+    no_record(a, e.range, e.op); // no string temporaries in this recursive frame
     if (e.op == Op::Plus)
       return a;
     return elementwise(std::move(a), [&](ExprPtr x) { return ast::make_unary(e.op, std::move(x), e.range); });
@@ -470,6 +479,10 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
         t.dims.insert(t.dims.end(), parts[0].dims.begin(), parts[0].dims.end());
       else if (parts[i].dims != parts[0].dims)
         fail(DiagId::TypeMismatch, e.range, "the elements of this array have different sizes");
+      if (!parts[i].record != !parts[0].record ||
+          (parts[i].record && !parts[i].record->same_shape(*parts[0].record)))
+        fail(DiagId::TypeMismatch, e.range, "the elements of this array are records of different types");
+      t.record = parts[0].record;
       for (auto &x : parts[i].elems)
         t.elems.push_back(std::move(x));
     }
@@ -492,7 +505,12 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
 
   // ---- calls
   const std::string name = e.ref.str();
-  auto arg = [&](std::size_t i) { return expr(*e.args[i], s); };
+  auto arg = [&](std::size_t i) {
+    Tensor t = expr(*e.args[i], s);
+    if (t.record)
+      no_record(t, e.args[i]->range, name + "()");
+    return t;
+  };
   auto want_args = [&](std::size_t lo, std::size_t hi) {
     if (e.args.size() < lo || e.args.size() > hi)
       fail(DiagId::WrongArgumentCount, e.range,
@@ -512,7 +530,7 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
     }
     if (name == "String")
       return string_call(e, s);
-    if (!e.named.empty() && !lookup_function(e, s))
+    if (!e.named.empty() && !lookup_called_class(e, s))
       fail(DiagId::Unsupported, e.range, "named arguments are only supported for homotopy()");
     if (const BuiltinInfo *b = find_builtin(name)) {
       want_args(b->min_args, b->max_args);
@@ -689,6 +707,8 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
   }
   if (ClassNode *fn = lookup_function(e, s))
     return std::move(call_function(fn, e, s)[0]);
+  if (ClassNode *rec = lookup_called_class(e, s); rec && is_record_class(rec))
+    return record_constructor(rec, e, s);
   fail(DiagId::UnknownFunction, e.range, "unknown function '" + name + "'");
 }
 
@@ -911,20 +931,30 @@ ExprPtr Flattener::take_pending(std::int32_t var, const std::string &attribute) 
 ExprPtr Flattener::binding_expr(const Modifier &m) {
   Scope s{m.scope, m.lexical, nullptr};
   Tensor t = expr(*m.binding, s);
-  for (int i : m.index) {
-    if (t.dims.empty())
-      break; // a scalar binding applies to every element
-    int n = t.dims[0];
-    if (i < 1 || i > n)
-      fail(DiagId::BadSubscript, m.binding->range,
-           fmt::format("the binding has {} elements; element {} is needed", n, i));
-    std::size_t stride = t.elems.size() / static_cast<std::size_t>(n);
-    Tensor sub;
-    sub.dims.assign(t.dims.begin() + 1, t.dims.end());
-    for (std::size_t k = 0; k < stride; ++k)
-      sub.elems.push_back(std::move(t.elems[(i - 1) * stride + k]));
-    t = std::move(sub);
+  const auto take = [&](const std::vector<int> &index) {
+    for (int i : index) {
+      if (t.dims.empty())
+        break; // a scalar binding applies to every element
+      int n = t.dims[0];
+      if (i < 1 || i > n)
+        fail(DiagId::BadSubscript, m.binding->range,
+             fmt::format("the binding has {} elements; element {} is needed", n, i));
+      std::size_t stride = t.elems.size() / static_cast<std::size_t>(n);
+      Tensor sub;
+      sub.dims.assign(t.dims.begin() + 1, t.dims.end());
+      sub.record = t.record;
+      for (std::size_t k = 0; k < stride; ++k)
+        sub.elems.push_back(std::move(t.elems[(i - 1) * stride + k]));
+      t = std::move(sub);
+    }
+  };
+  take(m.index);
+  for (const auto &[field, index] : m.fields) {
+    t = record_field(t, field, m.binding->range);
+    take(index);
   }
+  if (t.record)
+    fail(DiagId::TypeMismatch, m.binding->range, "a record is bound to a number");
   if (!t.is_scalar())
     fail(DiagId::TypeMismatch, m.binding->range,
          "an array of size " + dims_text(t.dims) + " is bound to a scalar");

@@ -8,12 +8,14 @@
 // `for` over a constant range is unrolled and a `while` runs while its
 // condition evaluates to a constant. What cannot be turned into expressions
 // (`when`, `return`/`break` under a condition that varies, `error(...)` and
-// other statements with effects, record or external "C" functions, a `while`
+// other statements with effects, external "C" functions, a `while`
 // whose condition varies) is, when every argument is a parameter expression,
 // run again on the arguments' values (a root search in a parameter binding),
 // with a warning that the result no longer follows those parameters;
 // otherwise it gets a diagnostic.
-// `external "builtin"` functions are the built-ins they name.
+// `external "builtin"` functions are the built-ins they name. A record
+// input, output or local is a record value (flatten_records.cpp): its fields
+// are read and assigned through designate().
 #include "flattener.hpp"
 #include "mo/frontend/printer.hpp"
 
@@ -42,6 +44,7 @@ constexpr std::size_t kMaxDecisions = 128;
 Tensor clone_tensor(const Tensor &t) {
   Tensor out;
   out.dims = t.dims;
+  out.record = t.record;
   for (const auto &e : t.elems)
     out.elems.push_back(e ? e->clone() : nullptr);
   return out;
@@ -737,26 +740,28 @@ private:
 private:
   void assign(const Expr &target, Tensor value) {
     fold(value);
-    if (target.kind != ExprKind::Ref || target.ref.global || target.ref.parts.size() != 1)
-      unsupported(target.range, "only a local variable or an element of one can be assigned");
-    const ast::RefPart &part = target.ref.parts[0];
-    auto it = values.find(part.name);
+    if (target.kind != ExprKind::Ref || target.ref.global)
+      unsupported(target.range, "only a local variable, an element or a field of one can be assigned");
+    const std::string &name = target.ref.parts[0].name;
+    auto it = values.find(name);
     if (it == values.end())
       f_.fail(DiagId::UnknownComponent, target.range,
-              "'" + part.name + "' is not an output or local variable of function '" + fn_->path() + "'");
+              "'" + name + "' is not an output or local variable of function '" + fn_->path() + "'");
     Tensor &slot = it->second;
-    if (part.subscripts.empty()) {
+    if (target.ref.is_simple() && !slot.record && !value.record) {
       if (!slot.dims.empty() && !value.dims.empty() && slot.dims != value.dims)
         f_.fail(DiagId::TypeMismatch, target.range,
-                "the sizes of '" + part.name + "' and of the assigned value differ");
-      slot = std::move(value);
+                "the sizes of '" + name + "' and of the assigned value differ");
+      slot = std::move(value); // an array of a size given by its first value
       return;
     }
-    std::vector<int> dims;
-    std::vector<std::size_t> idx = selection(f_, part.subscripts, slot, part.name, scope(cls_), target.range, dims);
-    if (!value.is_scalar() && value.elems.size() != idx.size())
+    Tensor shape;
+    const std::vector<std::size_t> idx = f_.designate(slot, target.ref, scope(cls_), target.range, shape);
+    const bool records_match = !shape.record == !value.record &&
+                               (!shape.record || shape.record->same_shape(*value.record));
+    if (!records_match || (!value.is_scalar() && value.elems.size() != idx.size()))
       f_.fail(DiagId::TypeMismatch, target.range,
-              "the sizes of '" + target.ref.str() + "' and of the assigned value differ");
+              "the sizes or types of '" + target.ref.str() + "' and of the assigned value differ");
     for (std::size_t k = 0; k < idx.size(); ++k)
       slot.elems[idx[k]] = value.is_scalar() ? value.elems[0]->clone() : std::move(value.elems[k]);
   }
@@ -764,7 +769,7 @@ private:
 
 } // namespace
 
-ClassNode *Flattener::lookup_function(const Expr &call, const Scope &s) {
+ClassNode *Flattener::lookup_called_class(const Expr &call, const Scope &s) {
   if (call.kind != ExprKind::Call || call.ref.parts.empty())
     return nullptr;
   std::vector<std::string> path;
@@ -773,8 +778,65 @@ ClassNode *Flattener::lookup_function(const Expr &call, const Scope &s) {
       return nullptr;
     path.push_back(part.name);
   }
-  ClassNode *fn = lookup_class(s.cls ? s.cls : &lib_.root, path, call.ref.global, call.range, false);
-  return fn && fn->def && fn->def->restriction == ast::Restriction::Function ? fn : nullptr;
+  ClassNode *cls = lookup_class(s.cls ? s.cls : &lib_.root, path, call.ref.global, call.range, false);
+  return cls && cls->def ? cls : nullptr;
+}
+
+ClassNode *Flattener::lookup_function(const Expr &call, const Scope &s) {
+  ClassNode *fn = lookup_called_class(call, s);
+  return fn && fn->def->restriction == ast::Restriction::Function ? fn : nullptr;
+}
+
+std::vector<std::size_t> Flattener::designate(const Tensor &slot, const ast::ComponentRef &ref, const Scope &s,
+                                              SourceRange where, Tensor &shape) {
+  // Each step keeps the indices of `slot` that the reference designates so
+  // far, grouped by item: an item is one record (stride: its size) or one scalar.
+  std::vector<std::size_t> idx;
+  const auto stride = [](const Tensor &t) { return t.record ? t.record->size : std::size_t{1}; };
+  shape.dims = slot.dims;
+  shape.record = slot.record;
+  shape.elems.clear();
+  for (std::size_t k = 0; k < slot.elems.size(); ++k)
+    idx.push_back(k);
+  for (std::size_t p = 0; p < ref.parts.size(); ++p) {
+    const ast::RefPart &part = ref.parts[p];
+    std::vector<int> lead; // dimensions of the items before this part's own ones
+    if (p > 0) {
+      if (!shape.record)
+        fail(DiagId::UnknownComponent, where, "'" + ref.str() + "': '" + ref.parts[p - 1].name + "' is not a record");
+      const RecordLayout::Field *f = shape.record->find(part.name);
+      if (!f)
+        fail(DiagId::UnknownComponent, where,
+             "'" + ref.str() + "': record '" + shape.record->cls->path() + "' has no field '" + part.name + "'");
+      std::vector<std::size_t> next;
+      for (std::size_t g = 0; g < idx.size(); g += shape.record->size)
+        for (std::size_t k = 0; k < f->size; ++k)
+          next.push_back(idx[g + f->offset + k]);
+      idx.swap(next);
+      lead = shape.dims;
+      shape.dims.insert(shape.dims.end(), f->dims.begin(), f->dims.end());
+      shape.record = f->record;
+    }
+    if (part.subscripts.empty())
+      continue;
+    // The subscripts select among this part's own dimensions, in every item before it.
+    Tensor own;
+    own.dims.assign(shape.dims.begin() + static_cast<std::ptrdiff_t>(lead.size()), shape.dims.end());
+    std::vector<int> picked_dims;
+    const std::vector<std::size_t> picked = selection(*this, part.subscripts, own, part.name, s, where, picked_dims);
+    std::size_t per_lead = stride(shape);
+    for (int d : own.dims)
+      per_lead *= static_cast<std::size_t>(d);
+    std::vector<std::size_t> next;
+    for (std::size_t g = 0; g < idx.size(); g += per_lead)
+      for (std::size_t item : picked)
+        for (std::size_t k = 0; k < stride(shape); ++k)
+          next.push_back(idx[g + item * stride(shape) + k]);
+    idx.swap(next);
+    shape.dims = lead;
+    shape.dims.insert(shape.dims.end(), picked_dims.begin(), picked_dims.end());
+  }
+  return idx;
 }
 
 bool Flattener::local_value(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out) {
@@ -783,18 +845,8 @@ bool Flattener::local_value(const ast::ComponentRef &ref, const Scope &s, Source
   auto it = s.locals->find(ref.parts[0].name);
   if (it == s.locals->end())
     return false;
-  if (ref.parts.size() > 1)
-    fail(DiagId::Unsupported, where, "records in functions are not supported ('" + ref.str() + "')");
   const Tensor &t = it->second;
-  std::vector<std::size_t> idx;
-  if (ref.parts[0].subscripts.empty()) {
-    out.dims = t.dims;
-    for (std::size_t k = 0; k < t.elems.size(); ++k)
-      idx.push_back(k);
-  } else {
-    idx = selection(*this, ref.parts[0].subscripts, t, ref.parts[0].name, s, where, out.dims);
-  }
-  for (std::size_t k : idx) {
+  for (std::size_t k : designate(t, ref, s, where, out)) {
     if (!t.elems[k])
       fail(DiagId::EvaluationError, where, "'" + ref.str() + "' is used before it is assigned");
     out.elems.push_back(t.elems[k]->clone());
@@ -862,9 +914,13 @@ std::vector<Tensor> inline_path(Flattener &f, ClassNode *fn, const Signature &si
     ResolvedType rt;
     if (!f.resolve_type(owner, c.type, rt))
       throw Reported{};
-    if (!rt.is_builtin)
-      f.fail(DiagId::Unsupported, c.range,
-           "cannot inline function '" + fn_name + "': '" + c.name + "' is a record or class instance");
+    std::shared_ptr<const RecordLayout> record;
+    if (!rt.is_builtin && !rt.is_enumeration) {
+      if (!is_record_class(rt.cls))
+        f.fail(DiagId::Unsupported, c.range,
+               "cannot inline function '" + fn_name + "': '" + c.name + "' is neither a number nor a record");
+      record = f.record_layout(rt.cls, c.range);
+    }
     std::vector<int> dims;
     bool sized = true;
     for (const auto &d : c.dims) {
@@ -877,6 +933,10 @@ std::vector<Tensor> inline_path(Flattener &f, ClassNode *fn, const Signature &si
     dims.insert(dims.end(), rt.dims.begin(), rt.dims.end());
     if (has_value) {
       const Tensor &t = in.values.at(c.name);
+      if (!t.record != !record || (record && !record->same_shape(*t.record)))
+        f.fail(DiagId::TypeMismatch, call.range,
+               "argument '" + c.name + "' of function '" + fn_name + "' is not a value of its type '" +
+                   c.type.str() + "'");
       if (sized && t.dims != dims)
         f.fail(DiagId::TypeMismatch, call.range,
              "argument '" + c.name + "' of function '" + fn_name + "' has the wrong size");
@@ -889,6 +949,13 @@ std::vector<Tensor> inline_path(Flattener &f, ClassNode *fn, const Signature &si
     if (is_input)
       f.fail(DiagId::WrongArgumentCount, call.range,
            "input '" + c.name + "' of function '" + fn_name + "' is missing and has no default");
+    if (record) {
+      if (!sized)
+        f.fail(DiagId::Unsupported, c.range,
+               "cannot inline function '" + fn_name + "': '" + c.name + "' is a record array of unknown size");
+      in.values[c.name] = f.record_defaults(record, dims, c.range);
+      return;
+    }
     Tensor t;
     t.dims = sized ? dims : std::vector<int>{};
     std::size_t n = 1;

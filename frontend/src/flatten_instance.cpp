@@ -50,6 +50,7 @@ void Flattener::merge_into(Modifier &inner, const Modifier &outer) {
     inner.scope = outer.scope;
     inner.lexical = outer.lexical;
     inner.index = outer.index;
+    inner.fields = outer.fields;
     inner.range = outer.range;
   }
   if (inner.range.file == 0)
@@ -72,8 +73,9 @@ static Modifier element_modifier(const Modifier &m, const std::vector<int> &inde
   Modifier out = m;
   if (m.each)
     return out;
+  auto &taken_at = out.fields.empty() ? out.index : out.fields.back().second;
   if (m.binding)
-    out.index.insert(out.index.end(), index.begin(), index.end());
+    taken_at.insert(taken_at.end(), index.begin(), index.end());
   for (auto &[name, sub] : out.sub)
     sub = element_modifier(m.sub.at(name), index);
   return out;
@@ -241,6 +243,23 @@ void Flattener::instantiate_member(Instance &inst, const ast::Component &c, Clas
     if (c.final_ && !it->second.empty())
       diags_.report(DiagId::UnknownModifier, it->second.range, "'" + c.name + "' is final and cannot be modified");
     merge_into(cmod, it->second);
+  }
+  const auto modified = [&] {
+    auto it = mod.sub.find(c.name);
+    return it != mod.sub.end() && it->second.binding;
+  };
+  if (mod.binding && is_record_instance(inst) && !modified()) {
+    // The record's binding gives each field its value, over the field's own
+    // default; a modifier of the field itself (`coreParameters(final m = 1)`
+    // with `coreParameters = data.coreParameters` from outside) is more
+    // specific and wins.
+    cmod.binding = mod.binding;
+    cmod.scope = mod.scope;
+    cmod.lexical = mod.lexical;
+    cmod.index = mod.index;
+    cmod.fields = mod.fields;
+    cmod.fields.emplace_back(c.name, std::vector<int>{});
+    cmod.each = false;
   }
   instantiate_component(inst, c, cls, std::move(cmod), depth);
 }

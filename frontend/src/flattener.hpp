@@ -64,6 +64,9 @@ struct Modifier {
   Instance *scope = nullptr;   ///< instance whose members the binding sees
   ClassNode *lexical = nullptr; ///< class the modification was written in
   std::vector<int> index;       ///< array element the binding is taken at
+  /// Then the record fields it is taken at, each with the element of the
+  /// field (a record's binding binds its fields: `Pt c = Pt(3, 4)`).
+  std::vector<std::pair<std::string, std::vector<int>>> fields;
   bool each = false;
   bool final_ = false;
   SourceRange range;
@@ -121,18 +124,52 @@ struct Instance {
   std::map<std::string, ClassNode *> replaced;
 };
 
+/// The fields of a record class in declaration order (bases first), each
+/// with its array dimensions, its own layout if it is a record, and where its
+/// scalars start in one record's scalars (flatten_records.cpp).
+struct RecordLayout {
+  struct Field {
+    std::string name;
+    std::vector<int> dims;
+    std::shared_ptr<const RecordLayout> record; ///< null: a Real/Integer/Boolean field
+    std::size_t offset = 0;                     ///< first scalar of the field
+    std::size_t size = 0;                       ///< scalars of the field
+    const ast::Component *decl = nullptr;       ///< its declaration (binding: the default)
+    ClassNode *owner = nullptr;                 ///< the class that declares it
+  };
+  ClassNode *cls = nullptr;
+  std::vector<Field> fields;
+  std::size_t size = 0; ///< scalars of one record
+  const Field *find(const std::string &name) const {
+    for (const Field &f : fields)
+      if (f.name == name)
+        return &f;
+    return nullptr;
+  }
+  /// True if both have the same field names, sizes and nesting.
+  bool same_shape(const RecordLayout &o) const;
+};
+
 /// A value of an array expression during flattening: dims and elements in
-/// row-major order; a scalar has no dims and one element.
+/// row-major order; a scalar has no dims and one element. A record value
+/// (`record` set) holds the scalars of each record in layout order: an
+/// array of n records has n * record->size elements.
 struct Tensor {
   std::vector<int> dims;
   std::vector<ast::ExprPtr> elems;
-  bool is_scalar() const { return dims.empty(); }
+  std::shared_ptr<const RecordLayout> record;
+  bool is_scalar() const { return dims.empty() && !record; }
   static Tensor scalar(ast::ExprPtr e) {
     Tensor t;
     t.elems.push_back(std::move(e));
     return t;
   }
 };
+
+/// True for a `record` or `operator record` class.
+bool is_record_class(const ClassNode *cls);
+/// True for a (scalar) instance of a record class.
+bool is_record_instance(const Instance &inst);
 
 /// For-loop and iterator bindings in scope while flattening an expression.
 struct LoopEnv {
@@ -305,10 +342,39 @@ public:
   /// Reports what cannot be inlined and throws Reported.
   std::vector<Tensor> call_function(ClassNode *fn, const ast::Expr &call, const Scope &s,
                                     std::size_t wanted = 1);
+  /// The indices into `slot` (a local's value) that `ref` designates
+  /// (subscripts and record fields); `shape` gets their dims and record.
+  std::vector<std::size_t> designate(const Tensor &slot, const ast::ComponentRef &ref, const Scope &s,
+                                     SourceRange where, Tensor &shape);
+  /// The class a call names (a function, a record constructor), or null.
+  ClassNode *lookup_called_class(const ast::Expr &call, const Scope &s);
   /// A reference to a local of an inlined function, or false.
   bool local_value(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
   /// `String(x, ...)`: kept as a call (assert messages).
   Tensor string_call(const ast::Expr &call, const Scope &s);
+
+  // -- records (flatten_records.cpp)
+  /// Reports a record value used as an operand of `operation`.
+  void no_record(const Tensor &t, SourceRange where, const std::string &operation);
+  void no_record(const Tensor &t, SourceRange where, ast::Op op);
+  /// A variable in an expression: a reference, or a constant's value.
+  ast::ExprPtr variable_expr(std::int32_t var, SourceRange where);
+  /// The layout of record class `cls` (cached); reports array fields of
+  /// unknown size and fields of other classes.
+  std::shared_ptr<const RecordLayout> record_layout(ClassNode *cls, SourceRange where);
+  std::map<ClassNode *, std::shared_ptr<const RecordLayout>> record_layouts_;
+  /// The value of record instances `insts` (an array of them when `dims`):
+  /// their variables in layout order.
+  Tensor record_value(const std::vector<Instance *> &insts, const std::vector<int> &dims, SourceRange where);
+  /// `R(a, b, name = c)` for record class `cls`: fields from the arguments,
+  /// positional then named, the others from their declared bindings.
+  Tensor record_constructor(ClassNode *cls, const ast::Expr &call, const Scope &s);
+  /// The field `name` of record value `t` (of every record of an array).
+  Tensor record_field(const Tensor &t, const std::string &name, SourceRange where);
+  /// A record value of layout `layout` (times `dims`) with each field's
+  /// declared binding where it has one and null elements elsewhere.
+  Tensor record_defaults(const std::shared_ptr<const RecordLayout> &layout, const std::vector<int> &dims,
+                         SourceRange where);
   unsigned function_depth_ = 0;
   std::set<std::pair<Instance *, ClassNode *>> inherited_; ///< bases instantiated per instance
   std::set<std::pair<const Instance *, std::string>> disabled_; ///< conditional components switched off

@@ -1,0 +1,133 @@
+// Records in expressions (MLS 12.6; flatten_records.cpp): a record's
+// binding binds its fields, a record passes through functions, and what
+// Modelica rejects is reported at its source. The simulation of
+// tests/e2e/data/Records.mo against closed forms is in tests/e2e/test_records.cpp.
+#include "compile.hpp"
+
+#include <catch2/catch.hpp>
+
+using namespace mo::test;
+
+namespace {
+
+const char *kPt = R"(
+record Pt
+  Real x;
+  Real y = 2 * x; // a default that reads a field before it
+end Pt;
+)";
+
+Compiled with_pt(const std::string &model) { return compile({{"Pt.mo", kPt}, {"M.mo", model}}, "M"); }
+
+} // namespace
+
+TEST_CASE("records: a binding binds each field; a constructor's default reads the fields before it",
+          "[flatten][records]") {
+  Compiled c = with_pt(R"(
+model M
+  parameter Pt a = Pt(3);
+  parameter Pt b[2] = {Pt(1, 5), a};
+  parameter Pt m(x = 7) = a; // a field's own modifier wins over the record's binding
+  Pt v = Pt(x = time);
+end M;
+)");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string s = c.model->print();
+  INFO(s);
+  for (const char *line : {"parameter Real `a.x` = 3;", "parameter Real `m.x` = 7;", "parameter Real `m.y` = `a.y`;", "parameter Real `a.y` = 2 * 3;",
+                           "parameter Real `b[1].y` = 5;", "parameter Real `b[2].x` = `a.x`;",
+                           "parameter Real `b[2].y` = `a.y`;", "`v.x` = time;", "`v.y` = 2 * time;"})
+    CHECK(s.find(line) != std::string::npos);
+}
+
+TEST_CASE("records: an equation between records is one equation per field", "[flatten][records]") {
+  Compiled c = compile_text(R"(
+model M
+  record P
+    Real x;
+    Real y;
+  end P;
+  function mirror
+    input P p;
+    output P q;
+  algorithm
+    q := P(p.y, p.x);
+  end mirror;
+  P u(x(start = 1, fixed = true));
+  P w;
+equation
+  der(u.x) = -u.x;
+  u.y = 2 * u.x;
+  w = mirror(u);
+end M;
+)", "M");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string s = c.model->print();
+  INFO(s);
+  CHECK(s.find("`u.y` = 2 * `u.x`;") != std::string::npos);
+  CHECK(s.find("`w.x` = `u.y`;") != std::string::npos);
+  CHECK(s.find("`w.y` = `u.x`;") != std::string::npos);
+}
+
+TEST_CASE("records: misuse is reported where it is written", "[flatten][records]") {
+  const std::pair<const char *, const char *> cases[] = {
+      {"  Real r = p + 1;", "a record of type 'Pt' cannot be an operand of '+'"},
+      {"  Real r = sum(p);", "a record of type 'Pt' cannot be an operand of sum()"},
+      {"  Real r = -p;", "cannot be an operand of '-'"},
+      {"  Real r = p;", "a record is bound to a number"},
+      {"  Pt q = Pt(1, 2, 3);", "record constructor Pt() takes 2 argument(s), 3 given"},
+      {"  Pt q = Pt(y = 1);", "field 'x' of record 'Pt' has no value and no default"},
+      {"  Pt q = Pt(1, x = 2);", "input 'x' of record constructor Pt() is given twice"},
+      {"  Pt q = Pt(z = 2);", "record constructor Pt() has no input named 'z'"},
+      {"  Pt q = 2;", "a value that is not a record is used as one (no field 'x')"},
+      {"  Real r = {p, 1} * {1, 1};", "the elements of this array are records of different types"},
+  };
+  for (const auto &[line, message] : cases) {
+    Compiled c = with_pt(std::string("model M\n  parameter Pt p(x = 1);\n") + line + "\nend M;\n");
+    INFO(line << "\n" << c.diagnostics);
+    CHECK_FALSE(c.ok());
+    CHECK(c.diagnostics.find(message) != std::string::npos);
+    CHECK(c.diagnostics.find("M.mo:3:") != std::string::npos);
+  }
+}
+
+TEST_CASE("records: fields of a local record in a function are read and assigned", "[flatten][records]") {
+  Compiled c = with_pt(R"(
+model M
+  function f
+    input Pt p[2];
+    output Real s;
+  protected
+    Pt t;
+  algorithm
+    t.x := p[2].x;
+    t.y := p[1].y;
+    s := t.x + t.y + p[1].q;
+  end f;
+  Real r = f({Pt(1, 2), Pt(3, 4)});
+end M;
+)");
+  INFO(c.diagnostics);
+  CHECK_FALSE(c.ok());
+  CHECK(c.diagnostics.find("record 'Pt' has no field 'q'") != std::string::npos);
+  Compiled ok = with_pt(R"(
+model M
+  function f
+    input Pt p[2];
+    output Real s;
+  protected
+    Pt t;
+  algorithm
+    t.x := p[2].x;
+    t.y := p[1].y;
+    s := t.x + t.y;
+  end f;
+  Real r = f({Pt(1, 2), Pt(3, 4)});
+end M;
+)");
+  INFO(ok.diagnostics);
+  REQUIRE(ok.ok());
+  CHECK(ok.model->print().find("r = 3 + 2;") != std::string::npos);
+}
