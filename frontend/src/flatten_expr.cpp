@@ -346,6 +346,25 @@ static Tensor binary(Flattener &f, Op op, Tensor a, Tensor b, SourceRange r) {
 }
 
 Tensor Flattener::expr(const Expr &e, const Scope &s) {
+  // Only the operators recurse in this frame: `a + b + ... ` nests as deep as
+  // it has terms, and expr_node's frame (every other kind, with its
+  // temporaries) is several kilobytes in an unoptimised build.
+  switch (e.kind) {
+  case ExprKind::Unary: {
+    Tensor a = expr(*e.args[0], s);
+    no_record(a, e.range, e.op);
+    if (e.op == Op::Plus)
+      return a;
+    return elementwise(std::move(a), [&](ExprPtr x) { return ast::make_unary(e.op, std::move(x), e.range); });
+  }
+  case ExprKind::Binary:
+    return binary(*this, e.op, expr(*e.args[0], s), expr(*e.args[1], s), e.range);
+  default:
+    return expr_node(e, s);
+  }
+}
+
+Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
   switch (e.kind) {
   case ExprKind::Real:
   case ExprKind::Integer:
@@ -415,15 +434,9 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
   }
   case ExprKind::Call:
     break; // below
-  case ExprKind::Unary: {
-    Tensor a = expr(*e.args[0], s);
-    no_record(a, e.range, e.op); // no string temporaries in this recursive frame
-    if (e.op == Op::Plus)
-      return a;
-    return elementwise(std::move(a), [&](ExprPtr x) { return ast::make_unary(e.op, std::move(x), e.range); });
-  }
+  case ExprKind::Unary:
   case ExprKind::Binary:
-    return binary(*this, e.op, expr(*e.args[0], s), expr(*e.args[1], s), e.range);
+    return expr(e, s); // the operators' own frame
   case ExprKind::If: {
     // Conditions that are literal after flattening (loop indices) select a branch.
     std::vector<ExprPtr> conds;

@@ -308,6 +308,9 @@ public:
 
   // -- expressions (flatten_expr.cpp)
   Tensor expr(const ast::Expr &e, const Scope &s);
+  /// expr() of every kind but the operators: kept out of expr()'s own frame,
+  /// which a long sum (nested as deep as it has terms) repeats per operand.
+  Tensor expr_node(const ast::Expr &e, const Scope &s);
   ast::ExprPtr scalar_expr(const ast::Expr &e, const Scope &s);
   /// Evaluates a flat expression; throws Reported when it is not constant.
   double eval(const ast::Expr &flat_expr, SourceRange where);
