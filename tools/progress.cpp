@@ -89,8 +89,10 @@ Progress::~Progress() {
 
 void Progress::stage(const std::string& name) {
   std::lock_guard lock(mutex_);
+  finish_stage_locked();
   erase_locked();
   stage_ = name;
+  stage_printed_ = false;
   detail_.clear();
   context_.clear();
   active_ = true;
@@ -115,8 +117,15 @@ void Progress::println(const std::string& line) {
 
 void Progress::end_stage() {
   std::lock_guard lock(mutex_);
+  finish_stage_locked();
   erase_locked();
   active_ = false;
+}
+
+void Progress::finish_stage_locked() {
+  if (!active_ || stage_printed_ || options_.quiet || options_.terminal) return;
+  const auto now = Clock::now();
+  if (std::chrono::duration<double>(now - stage_start_).count() >= options_.delay_seconds) print_locked(now);
 }
 
 void Progress::heartbeat() {
@@ -147,6 +156,7 @@ void Progress::print_locked(Clock::time_point now) {
   }
   out_ << line << std::flush;
   last_print_ = now;
+  stage_printed_ = true;
 }
 
 void Progress::erase_locked() {

@@ -50,7 +50,9 @@ struct ProgressOptions {
 ProgressOptions stderr_progress_options(bool quiet, const std::string& tool);
 
 /// A status line for long work, shown from a heartbeat thread. Thread-safe:
-/// stage/detail may be called from any thread (e.g. a solver callback).
+/// stage/detail may be called from any thread (e.g. a solver callback). In a
+/// log (not a terminal) a stage that ran `delay` seconds has at least one line,
+/// printed when it ends if the heartbeat was not scheduled in time.
 class Progress {
 public:
   /// Starts the heartbeat thread (none when quiet).
@@ -75,6 +77,7 @@ public:
 private:
   void heartbeat();
   void print_locked(std::chrono::steady_clock::time_point now);
+  void finish_stage_locked();
   void erase_locked();
 
   std::ostream& out_;
@@ -84,6 +87,7 @@ private:
   bool stopping_ = false;
   bool active_ = false;
   bool line_shown_ = false;  // terminal: a status line is on screen
+  bool stage_printed_ = false;  // the current stage has had a line
   std::string stage_, context_, detail_;
   std::chrono::steady_clock::time_point stage_start_, last_print_;
   std::thread thread_;
