@@ -221,7 +221,9 @@ int optimal_control(Study& s) {
     std::cerr << fmt::format("morun: free final time: {:.6g}\n", tf);
   }
   write_optimization_outputs(s.cli.output, s.info(), p, r, extra);
-  if (s.opt.plot || s.cli.plot) plot_optimization(s.cli.output, s.info(), p, s.problem, "optimal control");
+  // A problem refused before the solve has no trajectory: nothing to plot, and the reason follows.
+  if ((s.opt.plot || s.cli.plot) && r.trajectories.rows() > 0)
+    plot_optimization(s.cli.output, s.info(), p, s.problem, "optimal control");
   return report("optimal control", r);
 }
 
@@ -289,7 +291,7 @@ int design(Study& s) {
   }
   write_optimization_outputs(s.cli.output, s.info(), d.ocp, r.optimization, extra);
   write_designed_input(s.cli.output, s.info(), d.ocp, r.optimization);
-  if (s.opt.plot || s.cli.plot) {
+  if ((s.opt.plot || s.cli.plot) && r.optimization.trajectories.rows() > 0) {
     plot_optimization(s.cli.output, s.info(), d.ocp, s.problem,
                       fmt::format("{}-optimal input design (n_e = {}, n_cp = {})", s.opt.criterion,
                                   d.ocp.collocation.n_e, d.ocp.collocation.n_cp));

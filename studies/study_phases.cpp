@@ -385,7 +385,7 @@ int optimal_control_with_events(frontend::flat::Model& flat, const StudyCli& cli
   }
   nlohmann::json extra = {{"status", status}, {"events", events}};
   write_optimization_outputs(cli.output, info, Pphys, R, extra);
-  if (s.opt.plot || cli.plot)
+  if ((s.opt.plot || cli.plot) && R.trajectories.rows() > 0)
     plot_optimization(cli.output, info, Pphys, s.problem, fmt::format("optimal control ({} phases)", events["phases"].get<std::size_t>()));
   std::cerr << fmt::format("morun: optimal control {}: objective {:.6g} after {} iterations\n", status, R.objective,
                            R.iterations);

@@ -246,7 +246,7 @@ int design_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOp
   }
   write_optimization_outputs(cli.output, info, Pphys, best.result.optimization, extra);
   write_designed_input(cli.output, info, Pphys, best.result.optimization);
-  if (s.opt.plot || cli.plot)
+  if ((s.opt.plot || cli.plot) && best.result.optimization.trajectories.rows() > 0)
     plot_optimization(cli.output, info, Pphys, s.problem,
                       fmt::format("{}-optimal input design ({} phases)", s.opt.criterion,
                                   best.events.value("phases", std::size_t{0})));
