@@ -32,8 +32,9 @@ public:
   }
   const ModelInfo& info() const override { return base_.info(); }
   std::unique_ptr<Model> clone() const override { return std::make_unique<SparseSensitivities>(); }
-  void initial_state(std::span<const double> p, std::span<double> x0) override {
-    base_.initial_state(p, x0);
+  void initial_state(double t0, std::span<const double> u0, std::span<const double> p,
+                     std::span<double> x0) override {
+    base_.initial_state(t0, u0, p, x0);
   }
   void rhs(double t, std::span<const double> x, std::span<const double> u,
            std::span<const double> p, std::span<double> xdot) override {

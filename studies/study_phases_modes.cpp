@@ -29,7 +29,11 @@ public:
 
   const runtime::ModelInfo& info() const override { return inner_->info(); }
   std::unique_ptr<Model> clone() const override { return std::make_unique<EventRecorder>(inner_->clone()); }
-  void initial_state(std::span<const double> p, std::span<double> x0) override { inner_->initial_state(p, x0); }
+  using Model::initial_state;
+  void initial_state(double t0, std::span<const double> u0, std::span<const double> p,
+                     std::span<double> x0) override {
+    inner_->initial_state(t0, u0, p, x0);
+  }
   void rhs(double t, std::span<const double> x, std::span<const double> u, std::span<const double> p,
            std::span<double> xdot) override {
     inner_->rhs(t, x, u, p, xdot);
@@ -154,7 +158,8 @@ std::string fill_signs(const runtime::Model& model, ModeSequence& seq, const run
   const runtime::ModelInfo& info = model.info();
   auto eval = model.clone();
   std::vector<double> x0(info.states.size()), u(info.inputs.size()), g(info.num_event_indicators);
-  eval->initial_state(p, x0);
+  inputs.evaluate(times.front(), u);
+  eval->initial_state(times.front(), u, p, x0);
   for (std::size_t k = 0; k < seq.modes.size(); ++k) {
     PhaseMode& m = seq.modes[k];
     const double t = times[k + 1];
@@ -180,8 +185,9 @@ ModeRecording record_modes(const runtime::Model& model, const symbolic::OdeModel
   so.relative_tolerance = 1e-10;
   so.absolute_tolerance = 1e-10;
   {
-    std::vector<double> x0(model.info().states.size());
-    rec.initial_state(p, x0);
+    std::vector<double> x0(model.info().states.size()), u0(model.info().inputs.size());
+    inputs.evaluate(t0, u0);
+    rec.initial_state(t0, u0, p, x0);
   }
   const auto d0 = rec.discrete();
   ModeSequence seq;

@@ -108,6 +108,7 @@ constexpr const char* info_builder = R"(mo::runtime::ModelInfo build_info() {
     info.discrete.push_back(variable(discrete_names[i], discrete_descriptions[i], discrete_units[i]));
   info.num_event_indicators = ng;
   for (std::size_t i = 0; i < ng; ++i) info.indicator_in_rhs.push_back(indicator_in_rhs[i] != 0);
+  for (std::size_t i = 0; i < nu; ++i) info.input_in_initial.push_back(input_in_initial[i] != 0);
   return info;
 }
 
@@ -328,12 +329,16 @@ std::string sizes(const OdeModel& m, const Program& p) {
       p.layout.discrete, p.layout.pre_discrete, p.pre_copies.size(), m.initial_flag);
 }
 
-/// Per event indicator, 1 if a relation on it enters the right-hand side.
+/// Per event indicator, 1 if a relation on it enters the right-hand side;
+/// per input, 1 if the initial system reads it.
 std::string indicator_table(const OdeModel& m) {
   std::vector<int> in_rhs;
   for (std::size_t i = 0; i < m.zero_crossings.size(); ++i)
     in_rhs.push_back(i < m.zero_crossing_in_steps.size() && !m.zero_crossing_in_steps[i] ? 0 : 1);
-  return array("int", "indicator_in_rhs", in_rhs, [](int x) { return std::to_string(x); });
+  std::vector<int> in_initial;
+  for (bool read : m.inputs_in_initial_system()) in_initial.push_back(read ? 1 : 0);
+  return array("int", "indicator_in_rhs", in_rhs, [](int x) { return std::to_string(x); }) +
+         array("int", "input_in_initial", in_initial, [](int x) { return std::to_string(x); });
 }
 
 std::string typed_header(const OdeModel& m, const CodegenOptions& o) {

@@ -53,15 +53,16 @@ public:
     return std::make_unique<GeneratedModel>(*this);
   }
 
-  void initial_state(std::span<const double> p, std::span<double> x0) override {
+  using mo::runtime::Model::initial_state;
+  void initial_state(double t0, std::span<const double> u0, std::span<const double> p,
+                     std::span<double> x0) override {
     reset();
-    load(0.0, {}, {}, p);
-    std::fill(w_.begin() + u_slot, w_.begin() + u_slot + nu, 0.0);  // the initial system sees u = 0
+    load_initial(t0, u0, p);
     section_starts();
     for (std::size_t i = 0; i < nx; ++i) x0[i] = w_[static_cast<std::size_t>(start_slots[i])];
     load_samples();
-    if (initial_flag >= 0 || any_every_event()) initial_event(p, x0);
-    if (nsample > 0) sample_event_at_start(p, x0);
+    if (initial_flag >= 0 || any_every_event()) initial_event(t0, p, x0);
+    if (nsample > 0) sample_event_at_start(t0, p, x0);
   }
 
   void rhs(double t, std::span<const double> x, std::span<const double> u,
@@ -90,7 +91,7 @@ public:
                        std::span<double> values) override {
     const JacobianTables& j = jacobian_tables[index(block)];
     if (block == mo::runtime::Jacobian::x0_p)
-      load(0.0, {}, {}, p);  // start values depend on parameters only
+      load_initial(t, u, p);  // start values depend on p at the initial point (t0, u0)
     else
       load(t, x, u, p);
     double* w = w_.data();
@@ -356,14 +357,15 @@ private:
       if (when_every_event[k]) return true;
     return false;
   }
-  // The event at initialisation (t = 0, inputs 0): initial() is 1 and was
-  // 0 just before, so the clauses on it fire (in order, each seeing what the
-  // earlier ones assigned), then event iteration while discrete values change.
-  void initial_event(std::span<const double> p, std::span<double> x0) {
+  // The event at initialisation (t0, the inputs initial_state loaded):
+  // initial() is 1 and was 0 just before, so the clauses on it fire (in
+  // order, each seeing what the earlier ones assigned), then event iteration
+  // while discrete values change.
+  void initial_event(double t0, std::span<const double> p, std::span<double> x0) {
     std::fill(init_fired_.begin(), init_fired_.end(), 0);
     initialising_ = true;
     event_time_ = std::numeric_limits<double>::quiet_NaN();
-    const mo::runtime::EventCause cause{0.0, {}, false};
+    const mo::runtime::EventCause cause{t0, {}, false};
     for (int iteration = 0; iteration < 100; ++iteration)
       if (!handle_event(cause, x0, {}, p).discrete_changed) break;
     initialising_ = false;
@@ -375,7 +377,7 @@ private:
     // integration would start with the breakaway friction). A clause on
     // initial() does not fire again: its condition only falls.
     event_time_ = std::numeric_limits<double>::quiet_NaN();
-    const mo::runtime::EventCause after{0.0, {}, false};
+    const mo::runtime::EventCause after{t0, {}, false};
     for (int iteration = 0; iteration < 100; ++iteration)
       if (!handle_event(after, x0, {}, p).discrete_changed) break;
     event_time_ = std::numeric_limits<double>::quiet_NaN();
@@ -413,13 +415,13 @@ private:
       w_[d_slot + static_cast<std::size_t>(sample_flag[i])] =
           w_[pre_d_slot + static_cast<std::size_t>(sample_flag[i])] = 0.0;
   }
-  // A tick at t = 0 is an event right after the event at initialisation.
-  void sample_event_at_start(std::span<const double> p, std::span<double> x0) {
+  // A tick at t0 is an event right after the event at initialisation.
+  void sample_event_at_start(double t0, std::span<const double> p, std::span<double> x0) {
     bool tick = false;
-    for (std::size_t i = 0; i < nsample; ++i) tick = tick || sample_tick(i, 0.0);
+    for (std::size_t i = 0; i < nsample; ++i) tick = tick || sample_tick(i, t0);
     if (!tick) return;
     event_time_ = std::numeric_limits<double>::quiet_NaN();
-    const mo::runtime::EventCause cause{0.0, {}, true};
+    const mo::runtime::EventCause cause{t0, {}, true};
     for (int iteration = 0; iteration < 100; ++iteration)
       if (!handle_event(cause, x0, {}, p).discrete_changed) break;
     event_time_ = std::numeric_limits<double>::quiet_NaN();
@@ -432,6 +434,12 @@ private:
 
   void reset_discrete() {
     for (std::size_t i = 0; i < nd; ++i) w_[d_slot + i] = w_[pre_d_slot + i] = discrete_start[i];
+  }
+
+  /// load() at the initial point: the inputs u0, or all 0 if u0 is empty.
+  void load_initial(double t0, std::span<const double> u0, std::span<const double> p) {
+    load(t0, {}, u0, p);
+    if (u0.empty()) std::fill(w_.begin() + u_slot, w_.begin() + u_slot + nu, 0.0);
   }
 
   /// Copies the arguments into their slots; outside events pre(d) = d.

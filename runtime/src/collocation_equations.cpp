@@ -25,7 +25,7 @@ void CollocationEquations::values(CollocationNlp& nlp, std::span<const double> v
   const auto nx = std::size_t(nx_);
   std::vector<double> x(nx), u(info.inputs.size()), p(info.parameters.size()), f(nx);
   nlp.parameters(v, p);
-  nlp.model(e_).initial_state(p, x);
+  nlp.start_values(e_, v, p, x);
   for (std::size_t s = 0; s < nx; ++s) g[s] = v[nlp.state_var(e_, 0, 0, int(s))] - x[s];
   const CollocationPolynomials& poly = nlp.polynomials();
   for (int i = 0; i < n_e_; ++i) {

@@ -101,6 +101,14 @@ void CollocationNlp::check_setup() {
     for (std::size_t i = 0; i < claimed.size(); ++i)
       if (!claimed[i])
         throw ProblemError("input '" + info.inputs[i].name + "' is neither a control nor fixed");
+    // x0 = x0(p, u(t0)) has no derivative with respect to u: an input that the
+    // initial system reads must be a given signal here.
+    for (const FreeControl& c : s.controls)
+      if (c.input < info.input_in_initial.size() && info.input_in_initial[c.input])
+        throw ProblemError("the initial system reads input '" + info.inputs[c.input].name +
+                           "' (the start values depend on its value at the start time), so it cannot be "
+                           "a free control of a collocation problem; give it as a fixed signal, or "
+                           "initialise without it");
     for (const auto& [state, b] : s.state_bounds)
       if (state >= info.states.size()) throw ProblemError("state bound index out of range");
     for (const FinalStateConstraint& f : s.final_state)

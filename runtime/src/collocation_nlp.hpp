@@ -158,6 +158,9 @@ public:
   void point_inputs(std::span<const double> v, const PointRef& pt, std::span<double> u) const;
   /// All parameter values: free ones from v, the others fixed.
   void parameters(std::span<const double> v, std::span<double> p) const;
+  /// x0 of experiment e: the initial system at its start time with the
+  /// inputs there (point_inputs at τ = 0 of the first element).
+  void start_values(int e, std::span<const double> v, std::span<const double> p, std::span<double> x0);
   /// z = (x, u, p) → NLP variables at `pt`.
   [[nodiscard]] VariableMap variable_map(const PointRef& pt) const;
   /// Outputs y at the point.

@@ -157,6 +157,14 @@ void CollocationNlp::lagrangian_hessian(std::span<const double> v, double obj_fa
   }
 }
 
+void CollocationNlp::start_values(int e, std::span<const double> v, std::span<const double> p,
+                                  std::span<double> x0) {
+  const PointRef pt = point(e, 0, 0.0);
+  std::vector<double> u(info().inputs.size());
+  point_inputs(v, pt, u);
+  model(e).initial_state(pt.time, u, p, x0);
+}
+
 void CollocationNlp::initial_guess_from_simulation(int e) {
   const ExperimentSetup& s = experiments_[e].setup;
   const ModelInfo& info = this->info();
@@ -189,7 +197,7 @@ void CollocationNlp::initial_guess_from_simulation(int e) {
   parameters(initial_, p);
   std::vector<double> x0(info.states.size());
   if (!setup_.collocation.init_traj) {  // states at their start values x0(p)
-    model(e).initial_state(p, x0);
+    start_values(e, initial_, p, x0);
     for (int i = 0; i <= num_elements(); ++i)
       for (int k = 0; k < (i < num_elements() ? num_points() + 1 : 1); ++k)
         for (std::size_t st = 0; st < x0.size(); ++st)
@@ -207,7 +215,7 @@ void CollocationNlp::initial_guess_from_simulation(int e) {
     for (std::size_t st = 0; st < nx; ++st)
       initial_[std::size_t(state_var(e, i, k, int(st)))] = values[st];
   }
-  model(e).initial_state(p, x0);  // reset the discrete variables
+  start_values(e, initial_, p, x0);  // reset the discrete variables
   if (setup_.collocation.nominal_traj) scale_by_trajectory(e, sim.trajectory);
   apply_state_guesses(e);
 }

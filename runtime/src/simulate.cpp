@@ -340,7 +340,7 @@ bool Simulation::set_up() {
   x_ = std::make_unique<Vector>(n, context_.ctx);
   N_VConst(0.0, x_->v);
   std::span<double> x(x_->data(), nx_);
-  model_.initial_state(p_, x);
+  model_.initial_state(t0, u_, p_, x);  // u_ holds u(t0)
 
   const auto& sens = options_.sensitivities;
   sens_method_ = sens.method;

@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "mo/symbolic/printer.hpp"
+#include "mo/symbolic/traversal.hpp"
 
 namespace mo::symbolic {
 
@@ -124,6 +125,30 @@ std::optional<std::size_t> OdeModel::parameter_index(std::string_view n) const {
 
 std::optional<std::size_t> OdeModel::state_index(std::string_view n) const {
   return find_named(states, n);
+}
+
+std::vector<bool> OdeModel::inputs_in_initial_system() const {
+  std::vector<Expr> roots;
+  for (const auto& s : states)
+    if (s.start.valid()) roots.push_back(s.start);
+  for (const Step& step : initial_steps) {
+    if (const auto* a = std::get_if<Assignment>(&step)) {
+      roots.push_back(a->value);
+      continue;
+    }
+    const auto& b = std::get<EquationBlock>(step);
+    roots.insert(roots.end(), b.residuals.begin(), b.residuals.end());
+    roots.insert(roots.end(), b.offset.begin(), b.offset.end());
+    for (const auto& entry : b.jacobian) roots.push_back(entry.value);
+  }
+  std::vector<bool> out(inputs.size(), false);
+  for (Expr leaf : leaves(arena, roots)) {
+    if (arena.kind(leaf) != ExprKind::Symbol) continue;
+    const SymbolInfo& info = arena.symbol_info(leaf);
+    if (info.role == SymbolRole::Input && info.index >= 0 && std::size_t(info.index) < out.size())
+      out[std::size_t(info.index)] = true;
+  }
+  return out;
 }
 
 std::size_t OdeModel::num_base_states() const {

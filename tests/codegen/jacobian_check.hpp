@@ -1,6 +1,6 @@
 // Every Jacobian block of a Model against central differences (Richardson
-// extrapolated) of rhs, outputs and initial_state; entries outside the
-// pattern must be zero too.
+// extrapolated) of rhs, outputs and initial_state (at the initial point
+// (t, u)); entries outside the pattern must be zero too.
 #pragma once
 
 #include <catch2/catch.hpp>
@@ -27,7 +27,7 @@ inline void check_jacobians(runtime::Model& model, double t, std::vector<double>
     case Jacobian::h_x:
     case Jacobian::h_u:
     case Jacobian::h_p: out.resize(ny), model.outputs(t, xs, us, ps, out); break;
-    case Jacobian::x0_p: out.resize(nx), model.initial_state(ps, out); break;
+    case Jacobian::x0_p: out.resize(nx), model.initial_state(t, us, ps, out); break;
     }
     return out;
   };

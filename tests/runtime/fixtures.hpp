@@ -67,7 +67,7 @@ public:
   }
   const ModelInfo& info() const override { return info_; }
   std::unique_ptr<Model> clone() const override { return std::make_unique<LinearDecay>(*this); }
-  void initial_state(std::span<const double> p, std::span<double> x0) override {
+  void initial_state(double, std::span<const double>, std::span<const double> p, std::span<double> x0) override {
     x0[0] = p[1];
     x0[1] = 0.0;
   }
@@ -154,7 +154,7 @@ public:
   }
   const ModelInfo& info() const override { return info_; }
   std::unique_ptr<Model> clone() const override { return std::make_unique<CartPendulum>(*this); }
-  void initial_state(std::span<const double>, std::span<double> x0) override {
+  void initial_state(double, std::span<const double>, std::span<const double>, std::span<double> x0) override {
     std::fill(x0.begin(), x0.end(), 0.0);
   }
   void rhs(double, std::span<const double> x, std::span<const double> u,
@@ -321,7 +321,7 @@ public:
   }
   const ModelInfo& info() const override { return info_; }
   std::unique_ptr<Model> clone() const override { return std::make_unique<BouncingBall>(*this); }
-  void initial_state(std::span<const double> p, std::span<double> x0) override {
+  void initial_state(double, std::span<const double>, std::span<const double> p, std::span<double> x0) override {
     x0[0] = p[2];
     x0[1] = 0.0;
     bounces_ = pre_bounces_ = 0.0;
@@ -398,7 +398,7 @@ public:
   std::unique_ptr<Model> clone() const override {
     return std::make_unique<DoubleIntegrator>(*this);
   }
-  void initial_state(std::span<const double>, std::span<double> x0) override {
+  void initial_state(double, std::span<const double>, std::span<const double>, std::span<double> x0) override {
     x0[0] = x0[1] = 0.0;
   }
   void rhs(double, std::span<const double> x, std::span<const double> u,
@@ -479,8 +479,8 @@ public:
   std::unique_ptr<Model> clone() const override {
     return std::make_unique<WithSensitivities>(*this);
   }
-  void initial_state(std::span<const double> p, std::span<double> x0) override {
-    base_.initial_state(p, x0.subspan(0, nx_));
+  void initial_state(double t0, std::span<const double> u0, std::span<const double> p, std::span<double> x0) override {
+    base_.initial_state(t0, u0, p, x0.subspan(0, nx_));
     Eigen::MatrixXd s0 = dense(Jacobian::x0_p, 0.0, x0.subspan(0, nx_), {}, p);
     for (std::size_t i = 0; i < nx_; ++i)
       for (std::size_t j = 0; j < np_; ++j) x0[nx_ + i * np_ + j] = s0(i, j);

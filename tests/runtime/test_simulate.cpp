@@ -162,7 +162,7 @@ public:
   }
   const ModelInfo& info() const override { return info_; }
   std::unique_ptr<Model> clone() const override { return std::make_unique<Toggle>(*this); }
-  void initial_state(std::span<const double>, std::span<double> x0) override {
+  void initial_state(double, std::span<const double>, std::span<const double>, std::span<double> x0) override {
     x0[0] = 0.0;
     d_ = {1.0, 1.0};
   }
@@ -259,7 +259,7 @@ public:
   }
   const ModelInfo& info() const override { return info_; }
   std::unique_ptr<Model> clone() const override { return std::make_unique<Breaks>(*this); }
-  void initial_state(std::span<const double>, std::span<double> x0) override { x0[0] = 1.0; }
+  void initial_state(double, std::span<const double>, std::span<const double>, std::span<double> x0) override { x0[0] = 1.0; }
   void rhs(double t, std::span<const double> x, std::span<const double>, std::span<const double>,
            std::span<double> xdot) override {
     xdot[0] = t < t_break_ ? -x[0] : std::nan("");

@@ -103,6 +103,12 @@ struct ModelInfo {
   /// Per indicator: false if no relation on it enters the right-hand side
   /// (it only feeds when-conditions and discrete equations); empty: all do.
   std::vector<bool> indicator_in_rhs;
+  /// Per input: true if the initial system (the start values) reads it, so
+  /// that x0 depends on u(t0); empty: none does.
+  std::vector<bool> input_in_initial;
+
+  /// True if the start values depend on any input at t0.
+  [[nodiscard]] bool initial_reads_inputs() const;
 
   /// Index of the state named `name`, or nullopt.
   [[nodiscard]] std::optional<std::size_t> state_index(std::string_view name) const;
@@ -167,8 +173,16 @@ public:
 
   // --- continuous part -------------------------------------------------------
 
-  /// x0 = x0(p); also resets the discrete variables to their start values.
-  virtual void initial_state(std::span<const double> p, std::span<double> x0) = 0;
+  /// x0 = x0(p, u0, t0): the initial system solved at time t0 with the inputs
+  /// at their values u0 there (nu values, or empty for all 0: the start
+  /// values of a model whose initial system reads no input, such as
+  /// `initial equation der(x) = 0` under `der(x) = -x + u`, depend on p
+  /// alone); also resets the discrete variables to their start values and
+  /// runs the event at initialisation at t0.
+  virtual void initial_state(double t0, std::span<const double> u0, std::span<const double> p,
+                             std::span<double> x0) = 0;
+  /// initial_state(0, {}, p, x0): t0 = 0 and every input 0.
+  void initial_state(std::span<const double> p, std::span<double> x0) { initial_state(0.0, {}, p, x0); }
   /// xdot = f(x, u, p, t) for the current discrete variables.
   virtual void rhs(double t, std::span<const double> x, std::span<const double> u,
                    std::span<const double> p, std::span<double> xdot) = 0;
@@ -181,7 +195,8 @@ public:
   /// Sparsity of a Jacobian block (CSC); constant over the model's life.
   [[nodiscard]] virtual const Sparsity& jacobian_sparsity(Jacobian block) const = 0;
   /// Values of a Jacobian block in jacobian_sparsity(block) order, nnz of them.
-  /// For Jacobian::x0_p, t, x and u are ignored.
+  /// For Jacobian::x0_p, x is ignored and (t, u) is the initial point (t0,
+  /// u0) of initial_state(); an empty u means all 0.
   virtual void jacobian_values(Jacobian block, double t, std::span<const double> x,
                                std::span<const double> u, std::span<const double> p,
                                std::span<double> values) = 0;

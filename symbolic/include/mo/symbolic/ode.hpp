@@ -164,8 +164,9 @@ struct OdeModel {
   std::vector<OdeOutput> outputs;   ///< declared outputs (and output sensitivities)
   std::vector<OdeOutput> eliminated;  ///< aliases and other removed variables, for results
   /// Blocks of the initial system (and what follows from them), evaluated at
-  /// t = 0 with inputs 0 before the start expressions, which may use their
-  /// unknowns; empty when every start value is an expression over parameters.
+  /// t0 with the inputs' values u(t0) before the start expressions, which may
+  /// use their unknowns; empty when every start value is an expression over
+  /// parameters (and inputs, time).
   std::vector<Step> initial_steps;
   std::vector<OdeAlgebraic> initial_unknowns;  ///< the symbols initial_steps assign
   std::vector<Expr> zero_crossings; ///< event indicators: sign changes are events
@@ -189,6 +190,9 @@ struct OdeModel {
   [[nodiscard]] std::optional<std::size_t> state_index(std::string_view name) const;
   /// Number of states that are not sensitivity states.
   [[nodiscard]] std::size_t num_base_states() const;
+  /// Per input: true if the start expressions or initial_steps read it (the
+  /// start values then depend on u(t0)).
+  [[nodiscard]] std::vector<bool> inputs_in_initial_system() const;
 };
 
 /// The model as flat Modelica that parses and simulates again: declarations
