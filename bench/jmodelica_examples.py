@@ -28,7 +28,10 @@ FILES = "Python/src/pyjmi/examples/files"
 # name, study file, libraries, class, --option list, checks, or a reason not to run;
 # msl: the example uses the Modelica Standard Library (given with --msl);
 # simulate: (class, stop time) simulated first with morun, as the example does
-# for its init_traj, its result directory given to the options as {simulation}.
+# for its init_traj, its result directory given to the options as {simulation};
+# prepare: the name of a function in PREPARE that runs the example's own
+# Python steps before the solve as morun simulations and returns the --set
+# values and options they give.
 # A check is (what, expected, rtol, atol): what is "objective", "final_time",
 # "final:<column of trajectories.csv>" or "information" (design: the
 # criterion JModelica minimises is -trace F).
@@ -38,7 +41,11 @@ EXAMPLES = [
     dict(name="vdp_minimum_time_casadi", msl=True, file="JMExamples_opt.mop", libs=["JMExamples.mo"],
          cls="JMExamples_opt.VDP_Opt_Min_Time", options=[],
          checks=[("final_time", 2.2811587, 0, 1e-3)]),
-    dict(name="cstr_casadi", msl=True, file="CSTR.mop", cls="CSTR.CSTR_Opt2", options=["n_e=19", "tol=1e-10"],
+    dict(name="cstr_casadi", msl=True, file="CSTR.mop", cls="CSTR.CSTR_Opt2",
+         options=["n_e=19", "tol=1e-10", "piecewise_constant_controls=false"],
+         prepare="cstr_chain",
+         note="the example's Python steps as morun runs: CSTR_Init's stationary points at Tc = 250 and 280, "
+              "then CSTR_Init_Optimization simulated from A towards B for init_result; their values --set",
          checks=[("objective", 1.86162353098e3, 0, 1.0)]),
     dict(name="ccpp", msl=True, file="CombinedCycleStartup.mop", libs=["CombinedCycle.mo"],
          cls="CombinedCycleStartup.Startup6", options=["n_e=50", 'init_result="{simulation}/result.csv"'],
@@ -95,6 +102,41 @@ EXAMPLES = [
 ]
 
 
+def first_row(out, names):
+    """The values of columns `names` in the first row of `out`/result.csv."""
+    rows = list(csv.reader(open(os.path.join(out, "result.csv"))))
+    return [float(rows[1][rows[0].index(n)]) for n in names]
+
+
+def cstr_chain(simulate, scratch):
+    """cstr_casadi's Python before its solve: the stationary points A (Tc = 250)
+    and B (Tc = 280) of CSTR_Init (initial equations der(c) = der(T) = 0 at
+    the input's value), then CSTR_Init_Optimization simulated for 150 s from
+    A with B's values as references: its result is the initial guess (the
+    example's init_traj and nominal_traj). Returns the --set values of
+    CSTR_Opt2 and the options."""
+    point = {}
+    for name, tc in (("A", 250), ("B", 280)):
+        out = os.path.join(scratch, "cstr-init-" + name)
+        simulate("CSTR.CSTR_Init", out, ["--input", f"Tc=const:{tc}", "--stop-time", "1", "--intervals", "1"])
+        point[name] = [tc] + first_row(out, ["c", "T"])
+    (_, c_a, t_a), (tc_b, c_b, t_b) = point["A"], point["B"]
+    sets = [f"cstr.c_init={c_a!r}", f"cstr.T_init={t_a!r}", f"c_ref={c_b!r}", f"T_ref={t_b!r}", f"Tc_ref={tc_b!r}"]
+    guess = os.path.join(scratch, "cstr-init-trajectory")
+    args = ["--stop-time", "150", "--intervals", "1000"]
+    for v in sets:
+        args += ["--set", v]
+    simulate("CSTR.CSTR_Init_Optimization", guess, args)
+    return sets, [f'init_result="{guess}/result.csv"']
+
+
+PREPARE = {"cstr_chain": cstr_chain}
+
+
+class StepFailed(Exception):
+    pass
+
+
 def value(what, out):
     """The quantity `what` of the study results in `out`."""
     s = json.load(open(os.path.join(out, "summary.json")))
@@ -137,7 +179,25 @@ def run(example, files, morun, scratch, msl, timeout):
             return "failed", f"the simulation of {cls} stopped after the time limit of {timeout} s"
         if p.returncode != 0:
             return "failed", f"the simulation of {cls}: " + first_error(p.stderr)
-    for opt in ["plot=false"] + example["options"]:
+    options = list(example["options"])
+    if "prepare" in example:
+        def simulate(cls, out_dir, args):
+            step = [morun, os.path.join(files, example["file"]), "--class", cls, "-o", out_dir, "--quiet"]
+            step += cmd[6:] + args  # the -L arguments
+            try:
+                q = subprocess.run(step, capture_output=True, text=True, timeout=timeout)
+            except subprocess.TimeoutExpired:
+                raise StepFailed(f"the simulation of {cls} stopped after the time limit of {timeout} s")
+            if q.returncode != 0:
+                raise StepFailed(f"the simulation of {cls}: " + first_error(q.stderr))
+        try:
+            sets, extra = PREPARE[example["prepare"]](simulate, scratch)
+        except StepFailed as e:
+            return "failed", str(e)
+        for v in sets:
+            cmd += ["--set", v]
+        options += extra
+    for opt in ["plot=false"] + options:
         cmd += ["--option", opt.replace("{files}", files).replace("{simulation}", sim_dir)]
     try:
         p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
