@@ -6,11 +6,15 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include <chrono>
 #include <cstdlib>
+#include <sstream>
+#include <thread>
 
 #include "common.hpp"
 #include "e2e/cli.hpp"
 #include "e2e/support.hpp"
+#include "progress.hpp"
 #include "report_html.hpp"
 
 using namespace mo::e2e;
@@ -288,6 +292,31 @@ TEST_CASE("report: report.html from a small study opens in headless Chromium wit
   fs::create_directories(dir / "bad");
   const Chromium b = open_in_chromium(chromium, dir / "bad.html", dir / "bad");
   CHECK(console_lines(b.log).find("broken page") != std::string::npos);
+}
+
+TEST_CASE("report: in a log, a stage that ran past the delay has its line even if it ends before the heartbeat") {
+  // However the heartbeat thread is scheduled, each stage that ran 2 ms with
+  // a delay of 1 ms leaves a line with its detail; --quiet leaves none.
+  for (const bool quiet : {false, true}) {
+    std::ostringstream out;
+    {
+      mo::tools::ProgressOptions o;
+      o.quiet = quiet;
+      o.delay_seconds = o.interval_seconds = 0.001;
+      o.tool = "tool";
+      mo::tools::Progress progress(out, o);
+      for (int k = 0; k < 20; ++k) {
+        progress.stage("stage" + std::to_string(k));
+        progress.detail("step " + std::to_string(k));
+        std::this_thread::sleep_for(std::chrono::milliseconds(2));
+        progress.end_stage();
+      }
+    }
+    INFO(out.str());
+    for (int k = 0; k < 20; ++k)
+      CHECK((out.str().find("tool: stage" + std::to_string(k) + ": step " + std::to_string(k) + "; ") !=
+             std::string::npos) == !quiet);
+  }
 }
 
 TEST_CASE("report: mocompile shows its stages on stderr, none with --quiet") {
