@@ -380,6 +380,30 @@ std::vector<std::string> measured_names(const StudyOptions& o, const std::string
   return names;
 }
 
+/// In optimal_control and design every input is a free control: one that the
+/// initial system reads would make x0 depend on the control at t0, which the
+/// collocation has no derivative for. Reported at the input's declaration.
+bool refuse_controls_in_initial_system(const flat::Model& flat, const symbolic::OdeModel& ode,
+                                       frontend::DiagnosticEngine& diags) {
+  const std::vector<bool> read = ode.inputs_in_initial_system();
+  bool refused = false;
+  for (std::size_t k = 0; k < read.size(); ++k) {
+    if (!read[k]) continue;
+    const std::string& name = ode.inputs[k].info.name;
+    const std::int32_t var = flat.find(name);
+    const frontend::SourceRange where = var >= 0 ? flat.variables[std::size_t(var)].range
+                                        : flat.optimization                ? flat.optimization->range
+                                                                           : frontend::SourceRange{};
+    diags.report(frontend::DiagId::BadOptimization, where,
+                 "the initial system reads input '" + name + "' (the start values depend on its value at the "
+                 "start time), so it cannot be a free control of this study; initialise without it, or make it "
+                 "a parameter");
+    refused = true;
+  }
+  if (refused) diags.print(std::cerr);
+  return refused;
+}
+
 }  // namespace
 
 }  // namespace detail
@@ -421,6 +445,7 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
     if (const auto params = sensitivity_parameters(flat, parsed.options); !params.empty())
       if (auto error = add_named_sensitivities(*ode, params); !error.empty()) throw UsageError(error);
   }
+  if (constrained && refuse_controls_in_initial_system(flat, *ode, diags)) return 1;
   if (phased) {
     fs::create_directories(cli.output);
     const bool estimation = parsed.options.task == "estimation";

@@ -26,6 +26,36 @@ OptimalControlProblem rest_to_rest(CollocationScheme scheme, int n_e, int n_cp, 
   return p;
 }
 
+/// The double integrator, declared to read its input in the initial system.
+class StartReadsInput final : public Model {
+public:
+  StartReadsInput() : info_(inner_.info()) { info_.input_in_initial = {true}; }
+  const ModelInfo& info() const override { return info_; }
+  std::unique_ptr<Model> clone() const override { return std::make_unique<StartReadsInput>(); }
+  using Model::initial_state;
+  void initial_state(double t0, std::span<const double> u0, std::span<const double> p,
+                     std::span<double> x0) override {
+    inner_.initial_state(t0, u0, p, x0);
+  }
+  void rhs(double t, std::span<const double> x, std::span<const double> u, std::span<const double> p,
+           std::span<double> xdot) override {
+    inner_.rhs(t, x, u, p, xdot);
+  }
+  void outputs(double t, std::span<const double> x, std::span<const double> u, std::span<const double> p,
+               std::span<double> y) override {
+    inner_.outputs(t, x, u, p, y);
+  }
+  const Sparsity& jacobian_sparsity(Jacobian block) const override { return inner_.jacobian_sparsity(block); }
+  void jacobian_values(Jacobian block, double t, std::span<const double> x, std::span<const double> u,
+                       std::span<const double> p, std::span<double> values) override {
+    inner_.jacobian_values(block, t, x, u, p, values);
+  }
+
+private:
+  fixtures::DoubleIntegrator inner_;
+  ModelInfo info_;
+};
+
 }  // namespace
 
 TEST_CASE("double integrator: minimum energy rest-to-rest matches the analytic optimum",
@@ -131,6 +161,18 @@ TEST_CASE("optimisation rejects an inconsistent problem", "[optimize]") {
   r = solve(model, p);
   CHECK(r.status == OptimizationStatus::invalid_problem);
   CHECK(r.message.find("neither a control nor fixed") != std::string::npos);
+  // x0 = x0(p, u(t0)) has no derivative with respect to a control.
+  StartReadsInput reads;
+  r = solve(reads, rest_to_rest(CollocationScheme::radau, 10, 2, 1.0, 1.0));
+  CHECK(r.status == OptimizationStatus::invalid_problem);
+  CHECK(r.message.find("the initial system reads input 'u'") != std::string::npos);
+  p = rest_to_rest(CollocationScheme::radau, 10, 2, 1.0, 1.0);
+  p.controls.clear();
+  p.fixed_inputs = {{0, std::shared_ptr<const InputSignal>(constant_input(0.0))}};
+  p.final_state.clear();
+  r = solve(reads, p);  // a given signal is read at t0: solved
+  INFO(r.message);
+  CHECK(r.ok());
 }
 
 TEST_CASE("optimisation writes trajectories, re-simulation and summary", "[optimize]") {
