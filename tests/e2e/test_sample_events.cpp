@@ -61,6 +61,23 @@ TEST_CASE("sample(): ticks at exactly start + k*interval, counters, sample-and-h
   CHECK(discrete_value(*model, "b") == 0.0);  // false again after the instant
 }
 
+TEST_CASE("sample(): a run that starts at t0 > 0 ticks at t0 only if t0 is a tick") {
+  auto model = compiled_model("e2e_sample_clock", {{kData + "SampleClock.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  std::vector<double> x0(model->info().states.size());
+  model->initial_state(0.55, {}, p, x0);  // no tick of sample(0, 0.1) at 0.55 (before: the one at t = 0)
+  CHECK(discrete_value(*model, "n") == 0.0);
+  CHECK(discrete_value(*model, "xs") == 0.0);  // sample(0.05, 0.1) ticks at 0.55: x(t0) = 0
+  model->initial_state(0.6, {}, p, x0);
+  CHECK(discrete_value(*model, "n") == 1.0);
+  const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0.55, 1.0, 9), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  CHECK(discrete_value(*model, "n") == 5.0);  // 0.6, 0.7, 0.8, 0.9, 1.0
+  CHECK(std::fabs(discrete_value(*model, "xs") - 0.4) < 1e-9);  // x = t - 0.55 at the tick 0.95
+  CHECK(discrete_value(*model, "m") == 0.0);  // x stays below 0.52
+}
+
 TEST_CASE("sample(): the ticks move with a parameter interval; sensitivities to it are refused") {
   auto model = compiled_model("e2e_sample_clock", {{kData + "SampleClock.mo", "", {}, true}, {}});
   auto p = model->info().default_parameters();
