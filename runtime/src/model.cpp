@@ -106,10 +106,6 @@ std::size_t ModelInfo::num_base_states() const {
       states.begin(), states.end(), [](const StateVariable& s) { return !s.sensitivity; }));
 }
 
-bool ModelInfo::initial_reads_inputs() const {
-  return std::find(input_in_initial.begin(), input_in_initial.end(), true) != input_in_initial.end();
-}
-
 const Sparsity& Model::hessian_sparsity(Hessian which) const {
   (void)which;
   throw std::logic_error("internal error: Model::hessian_sparsity called on model '" +

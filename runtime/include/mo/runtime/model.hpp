@@ -107,9 +107,6 @@ struct ModelInfo {
   /// that x0 depends on u(t0); empty: none does.
   std::vector<bool> input_in_initial;
 
-  /// True if the start values depend on any input at t0.
-  [[nodiscard]] bool initial_reads_inputs() const;
-
   /// Index of the state named `name`, or nullopt.
   [[nodiscard]] std::optional<std::size_t> state_index(std::string_view name) const;
   /// Index of the input named `name`, or nullopt.
