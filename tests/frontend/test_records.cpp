@@ -94,7 +94,9 @@ TEST_CASE("records: misuse is reported where it is written", "[flatten][records]
 }
 
 TEST_CASE("records: fields of a local record in a function are read and assigned", "[flatten][records]") {
-  Compiled c = with_pt(R"(
+  // f's last assignment is `s := t.x + t.y` plus `extra`.
+  const auto with_f = [](const std::string &extra) {
+    return with_pt(R"(
 model M
   function f
     input Pt p[2];
@@ -104,29 +106,17 @@ model M
   algorithm
     t.x := p[2].x;
     t.y := p[1].y;
-    s := t.x + t.y + p[1].q;
+    s := t.x + t.y)" + extra + R"(;
   end f;
   Real r = f({Pt(1, 2), Pt(3, 4)});
 end M;
 )");
+  };
+  Compiled c = with_f(" + p[1].q");
   INFO(c.diagnostics);
   CHECK_FALSE(c.ok());
   CHECK(c.diagnostics.find("record 'Pt' has no field 'q'") != std::string::npos);
-  Compiled ok = with_pt(R"(
-model M
-  function f
-    input Pt p[2];
-    output Real s;
-  protected
-    Pt t;
-  algorithm
-    t.x := p[2].x;
-    t.y := p[1].y;
-    s := t.x + t.y;
-  end f;
-  Real r = f({Pt(1, 2), Pt(3, 4)});
-end M;
-)");
+  Compiled ok = with_f("");
   INFO(ok.diagnostics);
   REQUIRE(ok.ok());
   CHECK(ok.model->print().find("r = 3 + 2;") != std::string::npos);
