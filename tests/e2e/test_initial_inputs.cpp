@@ -1,8 +1,9 @@
 // The initial system at the start time with the inputs' values there
 // (tests/e2e/data/initial/InputSteadyState.mo): steady states under u(t0),
 // linear and through Newton, for t0 = 0 and t0 ≠ 0, their sensitivities
-// against finite differences, and a collocation study refused where the
-// start values would depend on a free control.
+// against finite differences, a collocation study refused where the start
+// values would depend on a free control, and an estimation through a steady
+// start under a given input.
 #include <cmath>
 #include <fstream>
 #include <vector>
