@@ -394,13 +394,13 @@ bool refuse_controls_in_initial_system(const flat::Model& flat, const symbolic::
     const frontend::SourceRange where = var >= 0 ? flat.variables[std::size_t(var)].range
                                         : flat.optimization                ? flat.optimization->range
                                                                            : frontend::SourceRange{};
-    diags.report(frontend::DiagId::BadOptimization, where,
-                 "the initial system reads input '" + name + "' (the start values depend on its value at the "
-                 "start time), so it cannot be a free control of this study; initialise without it, or make it "
-                 "a parameter");
+    // Printed alone: the lowering's warnings are on stderr already.
+    std::cerr << diags.format(diags.report(
+        frontend::DiagId::BadOptimization, where,
+        "the initial system reads input '" + name + "' (the start values depend on its value at the start "
+        "time), so it cannot be a free control of this study; initialise without it, or make it a parameter"));
     refused = true;
   }
-  if (refused) diags.print(std::cerr);
   return refused;
 }
 

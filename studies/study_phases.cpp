@@ -296,9 +296,10 @@ nlohmann::json sequence_json(const symbolic::OdeModel& ode, const ModeSequence& 
 }
 
 int refuse_phases(const frontend::flat::Model& flat, const PhaseRefusal& r, frontend::DiagnosticEngine& diags) {
-  diags.report(frontend::DiagId::BadOptimization, event_source(flat, r.when),
-               r.message + "; the multi-phase collocation of studies on models with events refuses it (docs/events.md)");
-  diags.print(std::cerr);
+  // Printed alone: the lowering's warnings are on stderr already.
+  std::cerr << diags.format(diags.report(
+      frontend::DiagId::BadOptimization, event_source(flat, r.when),
+      r.message + "; the multi-phase collocation of studies on models with events refuses it (docs/events.md)"));
   return 1;
 }
 
