@@ -301,7 +301,7 @@ void Flattener::tuple_equation(const ast::Equation &eq, const Scope &s, std::vec
 
 /// The scalar equations l[i] = r[i] (or l[i] rel r for a scalar constraint side).
 void Flattener::equal_elements(const ast::Equation &eq, Tensor &l, Tensor &r, std::vector<ast::Equation> &out) {
-  if (!l.record != !r.record || (l.record && !l.record->same_shape(*r.record)))
+  if (!same_record_type(l.record, r.record))
     fail(DiagId::TypeMismatch, eq.range,
          l.record && r.record ? "the two sides of this equation are records with different fields"
                               : "one side of this equation is a record and the other is not");

@@ -492,8 +492,7 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
         t.dims.insert(t.dims.end(), parts[0].dims.begin(), parts[0].dims.end());
       else if (parts[i].dims != parts[0].dims)
         fail(DiagId::TypeMismatch, e.range, "the elements of this array have different sizes");
-      if (!parts[i].record != !parts[0].record ||
-          (parts[i].record && !parts[i].record->same_shape(*parts[0].record)))
+      if (!same_record_type(parts[i].record, parts[0].record))
         fail(DiagId::TypeMismatch, e.range, "the elements of this array are records of different types");
       t.record = parts[0].record;
       for (auto &x : parts[i].elems)

@@ -757,9 +757,7 @@ private:
     }
     Tensor shape;
     const std::vector<std::size_t> idx = f_.designate(slot, target.ref, scope(cls_), target.range, shape);
-    const bool records_match = !shape.record == !value.record &&
-                               (!shape.record || shape.record->same_shape(*value.record));
-    if (!records_match || (!value.is_scalar() && value.elems.size() != idx.size()))
+    if (!same_record_type(shape.record, value.record) || (!value.is_scalar() && value.elems.size() != idx.size()))
       f_.fail(DiagId::TypeMismatch, target.range,
               "the sizes or types of '" + target.ref.str() + "' and of the assigned value differ");
     for (std::size_t k = 0; k < idx.size(); ++k)
@@ -933,7 +931,7 @@ std::vector<Tensor> inline_path(Flattener &f, ClassNode *fn, const Signature &si
     dims.insert(dims.end(), rt.dims.begin(), rt.dims.end());
     if (has_value) {
       const Tensor &t = in.values.at(c.name);
-      if (!t.record != !record || (record && !record->same_shape(*t.record)))
+      if (!same_record_type(t.record, record))
         f.fail(DiagId::TypeMismatch, call.range,
                "argument '" + c.name + "' of function '" + fn_name + "' is not a value of its type '" +
                    c.type.str() + "'");

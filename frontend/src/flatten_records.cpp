@@ -20,11 +20,14 @@ bool RecordLayout::same_shape(const RecordLayout &o) const {
     return false;
   for (std::size_t i = 0; i < fields.size(); ++i) {
     const Field &a = fields[i], &b = o.fields[i];
-    if (a.name != b.name || a.dims != b.dims || !a.record != !b.record ||
-        (a.record && !a.record->same_shape(*b.record)))
+    if (a.name != b.name || a.dims != b.dims || !same_record_type(a.record, b.record))
       return false;
   }
   return true;
+}
+
+bool same_record_type(const std::shared_ptr<const RecordLayout> &a, const std::shared_ptr<const RecordLayout> &b) {
+  return !a == !b && (!a || a->same_shape(*b));
 }
 
 namespace {
@@ -216,7 +219,7 @@ Tensor build_record(Flattener &f, const std::shared_ptr<const RecordLayout> &lay
              "field '" + fd.name + "' of record '" + layout->cls->path() + "' has no value and no default");
     }
     const bool fits = v.elems.size() == fd.size && (v.is_scalar() ? fd.dims.empty() : v.dims == fd.dims) &&
-                      !v.record == !fd.record && (!v.record || v.record->same_shape(*fd.record));
+                      same_record_type(v.record, fd.record);
     if (!fits)
       f.fail(DiagId::TypeMismatch, given[i] ? given[i]->range : where,
              "the value of field '" + fd.name + "' of record '" + layout->cls->path() + "' has the wrong size or type");

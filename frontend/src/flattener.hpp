@@ -150,6 +150,10 @@ struct RecordLayout {
   bool same_shape(const RecordLayout &o) const;
 };
 
+/// True if values of layouts `a` and `b` are of one kind: both numbers
+/// (null) or records of the same shape.
+bool same_record_type(const std::shared_ptr<const RecordLayout> &a, const std::shared_ptr<const RecordLayout> &b);
+
 /// A value of an array expression during flattening: dims and elements in
 /// row-major order; a scalar has no dims and one element. A record value
 /// (`record` set) holds the scalars of each record in layout order: an
