@@ -331,7 +331,7 @@ std::string sizes(const OdeModel& m, const Program& p) {
 
 /// Per event indicator, 1 if a relation on it enters the right-hand side;
 /// per input, 1 if the initial system reads it.
-std::string indicator_table(const OdeModel& m) {
+std::string flag_tables(const OdeModel& m) {
   std::vector<int> in_rhs;
   for (std::size_t i = 0; i < m.zero_crossings.size(); ++i)
     in_rhs.push_back(i < m.zero_crossing_in_steps.size() && !m.zero_crossing_in_steps[i] ? 0 : 1);
@@ -414,7 +414,7 @@ GeneratedSources generate_cpp(OdeModel& model, const CodegenOptions& options) {
       "namespace G = mo::runtime::generated;\n"
       "using SectionFunction = bool (*)(double*, const int*, G::BlockWorkspace&);\n\n",
       n);
-  text += sizes(model, program) + indicator_table(model) + info_tables(model, program) + info_builder + printed.runners +
+  text += sizes(model, program) + flag_tables(model) + info_tables(model, program) + info_builder + printed.runners +
           R"(struct JacobianTables {
   int rows, cols;
   const int* col_start;
