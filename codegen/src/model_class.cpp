@@ -112,11 +112,21 @@ public:
 
   // Values by second directional derivatives: σ seeds one colour, τ another
   // (or the same); each row's second derivative is then one entry of that
-  // row's Hessian, added with its weight.
+  // row's Hessian, added with its weight. A product none of whose entries is
+  // wanted is skipped (its entries stay 0), and so are the σ sections of a
+  // colour without a wanted product.
   void hessian_values(mo::runtime::Hessian which, double t, std::span<const double> x,
                       std::span<const double> u, std::span<const double> p,
                       std::span<const double> weights, std::span<double> values) override {
-    const HessianTables& h = hessian_tables[static_cast<std::size_t>(which)];
+    hessian_values_for({}, which, t, x, u, p, weights, values);
+  }
+  void hessian_values_for(std::span<const std::uint8_t> columns, mo::runtime::Hessian which, double t,
+                          std::span<const double> x, std::span<const double> u,
+                          std::span<const double> p, std::span<const double> weights,
+                          std::span<double> values) override {
+    const std::size_t k = static_cast<std::size_t>(which);
+    const HessianTables& h = hessian_tables[k];
+    const std::vector<std::uint8_t>& run = wanted_products(k, columns);
     load(t, x, u, p);
     double* w = w_.data();
     std::fill(values.begin(), values.begin() + h.col_start[h.n], 0.0);
@@ -127,6 +137,7 @@ public:
     };
     int sigma = -1;  // products come by σ colour: the σ sections run once per colour
     for (std::size_t q = 0; q < h.products; ++q) {
+      if (!run[q]) continue;
       if (h.sigma[q] != sigma) {
         if (sigma >= 0) seed(sigma_slot, sigma, 0.0);
         sigma = h.sigma[q];
@@ -515,8 +526,23 @@ private:
     w_[event_seed_t] = dt;
   }
 
+  // The products of Hessian k to run for the wanted columns of its last call.
+  const std::vector<std::uint8_t>& wanted_products(std::size_t k, std::span<const std::uint8_t> columns) {
+    if (!products_known_[k] || !std::equal(columns.begin(), columns.end(), wanted_columns_[k].begin(),
+                                           wanted_columns_[k].end())) {
+      const HessianTables& h = hessian_tables[k];
+      wanted_columns_[k].assign(columns.begin(), columns.end());
+      G::wanted_products(h.n, h.col_start, h.row_index, h.products, h.entry_start, h.entry_index, columns,
+                         wanted_products_[k]);
+      products_known_[k] = true;
+    }
+    return wanted_products_[k];
+  }
+
   std::vector<double> w_;
   G::BlockWorkspace ws_;
+  std::array<std::vector<std::uint8_t>, 2> wanted_columns_, wanted_products_;
+  std::array<bool, 2> products_known_{};
   std::vector<int> cross_, reversed_, relations_;
   std::vector<double> before_, now_;
   std::vector<char> fired_;

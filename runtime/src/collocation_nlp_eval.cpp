@@ -4,6 +4,7 @@
 #include "mo/runtime/simulate.hpp"
 
 #include <algorithm>
+#include <cstdint>
 #include <cmath>
 
 namespace mo::runtime::detail {
@@ -67,8 +68,10 @@ void CollocationNlp::add_model_hessian(Hessian which, std::span<const double> v,
   const Sparsity& sp = m.hessian_sparsity(which);
   std::vector<double> values(std::size_t(sp.nnz()));
   PointValues pv = values_at(*this, v, pt);
-  m.hessian_values(which, pt.time, pv.x, pv.u, pv.p, weights, values);
   VariableMap map = variable_map(pt);
+  std::vector<std::uint8_t> wanted(map.size());  // columns that are NLP variables here
+  for (std::size_t c = 0; c < map.size(); ++c) wanted[c] = !map[c].empty();
+  m.hessian_values_for(wanted, which, pt.time, pv.x, pv.u, pv.p, weights, values);
   auto visit = [&](int a, int b, double h) {
     for (auto [va, ca] : map[std::size_t(a)])
       for (auto [vb, cb] : map[std::size_t(b)])

@@ -139,6 +139,45 @@ TEST_CASE("cart pendulum with m2 sensitivities: Hessians of f and h", "[hessian]
   CHECK(sensitivity_entries > 0);
 }
 
+TEST_CASE("generated Hessian for wanted columns: their entries bit for bit, the rest skipped", "[hessian]") {
+  auto model = compiled("cart_pendulum_sens", cart_pendulum_m2_sensitivities);
+  const runtime::ModelInfo& info = model->info();
+  const std::size_t nz = info.states.size() + info.inputs.size() + info.parameters.size();
+  std::vector<std::uint8_t> xu(nz, 0), one_parameter(nz, 1);
+  for (std::size_t c = 0; c < info.states.size() + info.inputs.size(); ++c) xu[c] = 1;  // a design's columns
+  one_parameter[info.states.size() + info.inputs.size() + 1] = 0;                     // all but d1
+  const runtime::Sparsity& sp = model->hessian_sparsity(Hessian::f);
+  std::mt19937 rng(15);
+  for (const auto& columns : {xu, one_parameter}) {
+    const Point pt = random_cart_point(rng, info.states.size());
+    const auto w = random_weights(rng, info.states.size());
+    std::vector<double> all(static_cast<std::size_t>(sp.nnz())), some(all.size(), -1.0);
+    model->hessian_values(Hessian::f, pt.t, pt.x, pt.u, pt.p, w, all);
+    model->hessian_values_for(columns, Hessian::f, pt.t, pt.x, pt.u, pt.p, w, some);
+    int skipped = 0;
+    for (int c = 0; c < sp.cols; ++c)
+      for (int k = sp.col_start[std::size_t(c)]; k < sp.col_start[std::size_t(c) + 1]; ++k) {
+        const auto r = static_cast<std::size_t>(sp.row_index[std::size_t(k)]);
+        INFO("entry (" << r << ", " << c << ")");
+        if (columns[r] && columns[std::size_t(c)]) {
+          CHECK(some[std::size_t(k)] == all[std::size_t(k)]);
+        } else if (all[std::size_t(k)] != 0.0) {
+          CHECK(some[std::size_t(k)] == 0.0);
+          ++skipped;
+        }
+      }
+    CHECK(skipped > 0);
+  }
+  // The model remembers the products of the last columns: asking for all again gives all.
+  const Point pt = random_cart_point(rng, info.states.size());
+  const auto w = random_weights(rng, info.states.size());
+  std::vector<double> all(static_cast<std::size_t>(sp.nnz())), again(all.size());
+  model->hessian_values(Hessian::f, pt.t, pt.x, pt.u, pt.p, w, all);
+  model->hessian_values_for(xu, Hessian::f, pt.t, pt.x, pt.u, pt.p, w, again);
+  model->hessian_values_for({}, Hessian::f, pt.t, pt.x, pt.u, pt.p, w, again);
+  CHECK(again == all);
+}
+
 namespace {
 
 runtime::EstimationProblem m2_estimation(runtime::Model& model, runtime::HessianMode mode,

@@ -13,7 +13,9 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -121,5 +123,13 @@ bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws);
 /// last iterate) in ws.failure unless an earlier block failed first, and
 /// returns false.
 bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws);
+
+/// The products of a generated Hessian to evaluate: out[q] = 1 if one of
+/// product q's entries (entry_index[entry_start[q] .. entry_start[q+1]), positions in
+/// the n×n CSC pattern col_start/row_index) has its row and its column marked in
+/// `columns`; all 1 if `columns` is empty.
+void wanted_products(int n, const int* col_start, const int* row_index, std::size_t products,
+                     const int* entry_start, const int* entry_index, std::span<const std::uint8_t> columns,
+                     std::vector<std::uint8_t>& out);
 
 }  // namespace mo::runtime::generated

@@ -18,6 +18,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <memory>
 #include <optional>
@@ -213,6 +214,18 @@ public:
   virtual void hessian_values(Hessian which, double t, std::span<const double> x,
                               std::span<const double> u, std::span<const double> p,
                               std::span<const double> weights, std::span<double> values);
+  /// hessian_values where only the entries whose row and column are both
+  /// marked in `columns` (one flag per z = (x, u, p) column) are wanted; the
+  /// others may be left 0. A collocation NLP wants no column of a parameter
+  /// it does not estimate: the generated code then skips the directional
+  /// derivatives of those entries. The default computes them all.
+  virtual void hessian_values_for(std::span<const std::uint8_t> columns, Hessian which, double t,
+                                  std::span<const double> x, std::span<const double> u,
+                                  std::span<const double> p, std::span<const double> weights,
+                                  std::span<double> values) {
+    (void)columns;
+    hessian_values(which, t, x, u, p, weights, values);
+  }
 
   // --- events ------------------------------------------------------------------
 
