@@ -124,9 +124,9 @@ public:
                           std::span<const double> x, std::span<const double> u,
                           std::span<const double> p, std::span<const double> weights,
                           std::span<double> values) override {
-    const std::size_t k = static_cast<std::size_t>(which);
-    const HessianTables& h = hessian_tables[k];
-    const std::vector<std::uint8_t>& run = wanted_products(k, columns);
+    const std::size_t index = static_cast<std::size_t>(which);
+    const HessianTables& h = hessian_tables[index];
+    const std::vector<std::uint8_t>& run = wanted_products(index, columns);
     load(t, x, u, p);
     double* w = w_.data();
     std::fill(values.begin(), values.begin() + h.col_start[h.n], 0.0);

@@ -4,8 +4,8 @@
 #include "mo/runtime/simulate.hpp"
 
 #include <algorithm>
-#include <cstdint>
 #include <cmath>
+#include <cstdint>
 
 namespace mo::runtime::detail {
 namespace {

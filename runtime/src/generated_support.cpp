@@ -330,7 +330,10 @@ void wanted_products(int n, const int* col_start, const int* row_index, std::siz
   std::vector<int> column_of(static_cast<std::size_t>(col_start[n]));  // of each pattern position
   for (int c = 0; c < n; ++c)
     for (int k = col_start[c]; k < col_start[c + 1]; ++k) column_of[static_cast<std::size_t>(k)] = c;
-  auto wanted = [&](int column) { return static_cast<std::size_t>(column) < columns.size() && columns[static_cast<std::size_t>(column)]; };
+  auto wanted = [&](int column) {
+    const auto c = static_cast<std::size_t>(column);
+    return c < columns.size() && columns[c] != 0;
+  };
   for (std::size_t q = 0; q < products; ++q)
     for (int e = entry_start[q]; e < entry_start[q + 1] && !out[q]; ++e) {
       const auto k = static_cast<std::size_t>(entry_index[e]);
