@@ -2,6 +2,7 @@
 #include "mo/runtime/generated_support.hpp"
 
 #include "mo/runtime/linear_solve.hpp"
+#include "sparse_factors.hpp"
 
 #include <algorithm>
 #include <fmt/format.h>
@@ -134,7 +135,30 @@ bool least_squares_step(const NonlinearBlock& b, const double* w, BlockWorkspace
 
 }  // namespace
 
+namespace {
+
+/// solve_linear for a block of kSparseBlockSize unknowns or more: sparse LU,
+/// the factors reused while the entries' values stay the same.
+bool solve_linear_sparse(const LinearBlock& block, double* w, BlockWorkspace& ws) {
+  const auto n = static_cast<Size>(block.size);
+  const auto finite = [](double v) { return std::isfinite(v); };
+  ws.z.resize(static_cast<Size>(block.num_entries));
+  for (int k = 0; k < block.num_entries; ++k) ws.z[static_cast<Size>(k)] = w[block.entries[k].slot];
+  ws.b.resize(n);
+  for (Size i = 0; i < n; ++i) ws.b[i] = -w[block.offsets[i]];
+  if (!std::all_of(ws.z.begin(), ws.z.end(), finite) || !std::all_of(ws.b.begin(), ws.b.end(), finite))
+    return fail(block.description, block.unknowns, n, w, ws,
+                "its coefficients are not finite (a value it uses is NaN or infinite)");
+  const std::string why = solve_sparse(ws.sparse.of(block), block, ws.z, ws.b);
+  if (!why.empty()) return fail(block.description, block.unknowns, n, w, ws, why);
+  for (Size i = 0; i < n; ++i) w[block.unknowns[i]] = ws.b[i];
+  return true;
+}
+
+}  // namespace
+
 bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws) {
+  if (block.size >= kSparseBlockSize) return solve_linear_sparse(block, w, ws);
   const auto n = static_cast<Size>(block.size);
   ws.a.resize(n * n);
   ws.b.resize(n);

@@ -15,6 +15,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <span>
 #include <string>
 #include <unordered_map>
@@ -79,6 +80,30 @@ struct NewtonOptions {
   int max_halvings = 12;          ///< line-search halvings of a step
 };
 
+struct SparseFactors;
+
+/// Sparse LU factors of the linear blocks solved sparsely (size >=
+/// kSparseBlockSize), per block: its pattern analysed once, the values last
+/// factorised kept, so that the directional-derivative sweeps at one point
+/// reuse them. A copy (a cloned model) starts empty.
+class SparseFactorCache {
+public:
+  SparseFactorCache();
+  ~SparseFactorCache();
+  SparseFactorCache(const SparseFactorCache&);
+  SparseFactorCache& operator=(const SparseFactorCache&);
+  /// The factors of `block`, created empty on first use.
+  SparseFactors& of(const LinearBlock& block);
+
+private:
+  std::unordered_map<const void*, std::unique_ptr<SparseFactors>> blocks_;
+};
+
+/// Linear blocks of at least this many unknowns are solved by sparse LU
+/// (Eigen's SparseLU, COLAMD ordering); smaller ones by dense LU with
+/// partial pivoting, whose O(n²) work per solve is negligible there.
+inline constexpr int kSparseBlockSize = 32;
+
 /// Scratch and failure record of one model instance's block solves.
 struct BlockWorkspace {
   std::vector<double> a, b, z, dz;  ///< matrix and vectors, resized as needed
@@ -90,6 +115,7 @@ struct BlockWorkspace {
   /// the factors: one factorisation per point instead of one per solve.
   std::vector<double> factored, lu;
   std::vector<int> lu_pivots;
+  SparseFactorCache sparse;  ///< blocks of kSparseBlockSize unknowns or more
   double time = 0.0;                ///< model time of the current evaluation, for messages
   /// The crossing state of the section solving a nonlinear block, passed to
   /// its evaluate (relations inside a torn block's explicit part). Not a
