@@ -28,14 +28,16 @@ void analyse(SparseFactors& f, const LinearBlock& block) {
                                                                f.matrix.innerIndexPtr());
   }
   f.lu.analyzePattern(f.matrix);
-  f.analysed = true;
+  f.pattern = block.entries;
+  f.pattern_size = block.num_entries;
+  f.factored.clear();
 }
 
 }  // namespace
 
 std::string solve_sparse(SparseFactors& f, const LinearBlock& block, const std::vector<double>& values,
                          std::vector<double>& b) {
-  if (!f.analysed) analyse(f, block);
+  if (f.pattern != block.entries || f.pattern_size != block.num_entries) analyse(f, block);
   if (values != f.factored) {
     f.factored.clear();
     double* stored = f.matrix.valuePtr();

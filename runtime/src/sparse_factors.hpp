@@ -18,7 +18,8 @@ struct SparseFactors {
   std::vector<int> position;           ///< entry k → index into matrix.valuePtr()
   std::vector<double> factored;        ///< entry values last factorised (empty: none)
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
-  bool analysed = false;
+  const BlockEntry* pattern = nullptr;  ///< the entries analysed (null: none yet)
+  int pattern_size = 0;                 ///< and their number
 };
 
 /// Solves J z = b for the block's entry values `values` (one per entry, all
