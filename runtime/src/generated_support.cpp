@@ -142,16 +142,18 @@ namespace {
 bool solve_linear_sparse(const LinearBlock& block, double* w, BlockWorkspace& ws) {
   const auto n = static_cast<Size>(block.size);
   const auto finite = [](double v) { return std::isfinite(v); };
-  ws.z.resize(static_cast<Size>(block.num_entries));
-  for (int k = 0; k < block.num_entries; ++k) ws.z[static_cast<Size>(k)] = w[block.entries[k].slot];
-  ws.b.resize(n);
-  for (Size i = 0; i < n; ++i) ws.b[i] = -w[block.offsets[i]];
-  if (!std::all_of(ws.z.begin(), ws.z.end(), finite) || !std::all_of(ws.b.begin(), ws.b.end(), finite))
+  SparseFactors& f = ws.sparse.of(block);  // its own scratch: a torn block's Newton may be using ws
+  f.values.resize(static_cast<Size>(block.num_entries));
+  for (int k = 0; k < block.num_entries; ++k) f.values[static_cast<Size>(k)] = w[block.entries[k].slot];
+  f.rhs.resize(n);
+  for (Size i = 0; i < n; ++i) f.rhs[i] = -w[block.offsets[i]];
+  if (!std::all_of(f.values.begin(), f.values.end(), finite) ||
+      !std::all_of(f.rhs.begin(), f.rhs.end(), finite))
     return fail(block.description, block.unknowns, n, w, ws,
                 "its coefficients are not finite (a value it uses is NaN or infinite)");
-  const std::string why = solve_sparse(ws.sparse.of(block), block, ws.z, ws.b);
+  const std::string why = solve_sparse(f, block);
   if (!why.empty()) return fail(block.description, block.unknowns, n, w, ws, why);
-  for (Size i = 0; i < n; ++i) w[block.unknowns[i]] = ws.b[i];
+  for (Size i = 0; i < n; ++i) w[block.unknowns[i]] = f.rhs[i];
   return true;
 }
 

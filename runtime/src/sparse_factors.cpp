@@ -35,8 +35,8 @@ void analyse(SparseFactors& f, const LinearBlock& block) {
 
 }  // namespace
 
-std::string solve_sparse(SparseFactors& f, const LinearBlock& block, const std::vector<double>& values,
-                         std::vector<double>& b) {
+std::string solve_sparse(SparseFactors& f, const LinearBlock& block) {
+  const std::vector<double>& values = f.values;
   if (f.pattern != block.entries || f.pattern_size != block.num_entries) analyse(f, block);
   if (values != f.factored) {
     f.factored.clear();
@@ -47,7 +47,7 @@ std::string solve_sparse(SparseFactors& f, const LinearBlock& block, const std::
     if (f.lu.info() != Eigen::Success) return "the matrix is singular";
     f.factored = values;
   }
-  Eigen::Map<Eigen::VectorXd> rhs(b.data(), static_cast<Eigen::Index>(b.size()));
+  Eigen::Map<Eigen::VectorXd> rhs(f.rhs.data(), static_cast<Eigen::Index>(f.rhs.size()));
   Eigen::VectorXd z = f.lu.solve(rhs);
   if (f.lu.info() != Eigen::Success || !z.allFinite()) return "the matrix is singular";
   rhs = z;

@@ -17,15 +17,15 @@ struct SparseFactors {
   Eigen::SparseMatrix<double> matrix;  ///< the block's pattern, then its last values
   std::vector<int> position;           ///< entry k → index into matrix.valuePtr()
   std::vector<double> factored;        ///< entry values last factorised (empty: none)
+  std::vector<double> values, rhs;     ///< this solve's entry values and -c, then z
   Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
   const BlockEntry* pattern = nullptr;  ///< the entries analysed (null: none yet)
   int pattern_size = 0;                 ///< and their number
 };
 
-/// Solves J z = b for the block's entry values `values` (one per entry, all
-/// finite), b overwritten by z. Factorises only when the values differ from
-/// the last ones factorised. Empty on success, else why it failed.
-std::string solve_sparse(SparseFactors& f, const LinearBlock& block, const std::vector<double>& values,
-                         std::vector<double>& b);
+/// Solves J z = f.rhs for J with the entry values f.values (one per entry,
+/// all finite), f.rhs overwritten by z. Factorises only when the values
+/// differ from the last ones factorised. Empty on success, else why it failed.
+std::string solve_sparse(SparseFactors& f, const LinearBlock& block);
 
 }  // namespace mo::runtime::generated
