@@ -36,16 +36,15 @@ void analyse(SparseFactors& f, const LinearBlock& block) {
 }  // namespace
 
 std::string solve_sparse(SparseFactors& f, const LinearBlock& block) {
-  const std::vector<double>& values = f.values;
   if (f.pattern != block.entries || f.pattern_size != block.num_entries) analyse(f, block);
-  if (values != f.factored) {
+  if (f.values != f.factored) {
     f.factored.clear();
     double* stored = f.matrix.valuePtr();
     std::fill(stored, stored + f.matrix.nonZeros(), 0.0);
-    for (std::size_t k = 0; k < values.size(); ++k) stored[f.position[k]] = values[k];
+    for (std::size_t k = 0; k < f.values.size(); ++k) stored[f.position[k]] = f.values[k];
     f.lu.factorize(f.matrix);
     if (f.lu.info() != Eigen::Success) return "the matrix is singular";
-    f.factored = values;
+    f.factored = f.values;
   }
   Eigen::Map<Eigen::VectorXd> rhs(f.rhs.data(), static_cast<Eigen::Index>(f.rhs.size()));
   Eigen::VectorXd z = f.lu.solve(rhs);

@@ -96,7 +96,7 @@ public:
   SparseFactors& of(const LinearBlock& block);
 
 private:
-  std::unordered_map<const void*, std::unique_ptr<SparseFactors>> blocks_;
+  std::unordered_map<const LinearBlock*, std::unique_ptr<SparseFactors>> blocks_;
 };
 
 /// Linear blocks of at least this many unknowns are solved by sparse LU
