@@ -112,9 +112,9 @@ public:
 
   // Values by second directional derivatives: σ seeds one colour, τ another
   // (or the same); each row's second derivative is then one entry of that
-  // row's Hessian, added with its weight. A product none of whose entries is
-  // wanted is skipped (its entries stay 0), and so are the σ sections of a
-  // colour without a wanted product.
+  // row's Hessian, added with its weight. Only the entries of wanted columns
+  // are computed, by products over those columns coloured again (G::plan_hessian);
+  // the others stay 0.
   void hessian_values(mo::runtime::Hessian which, double t, std::span<const double> x,
                       std::span<const double> u, std::span<const double> p,
                       std::span<const double> weights, std::span<double> values) override {
@@ -126,30 +126,30 @@ public:
                           std::span<double> values) override {
     const std::size_t index = static_cast<std::size_t>(which);
     const HessianTables& h = hessian_tables[index];
-    const std::vector<std::uint8_t>& run = wanted_products(index, columns);
+    const G::HessianPlan& plan = hessian_plan(index, columns);
     load(t, x, u, p);
     double* w = w_.data();
     std::fill(values.begin(), values.begin() + h.col_start[h.n], 0.0);
     for (std::size_t k = 0; k < h.num_base; ++k) h.base[k](w, nullptr, ws_);
     auto seed = [&](std::size_t first, int colour, double value) {
-      for (int c = h.colour_start[colour]; c < h.colour_start[colour + 1]; ++c)
-        w[first + static_cast<std::size_t>(h.colour_columns[c])] = value;
+      const auto k = static_cast<std::size_t>(colour);
+      for (int c = plan.colour_start[k]; c < plan.colour_start[k + 1]; ++c)
+        w[first + static_cast<std::size_t>(plan.colour_columns[static_cast<std::size_t>(c)])] = value;
     };
     int sigma = -1;  // products come by σ colour: the σ sections run once per colour
-    for (std::size_t q = 0; q < h.products; ++q) {
-      if (!run[q]) continue;
-      if (h.sigma[q] != sigma) {
+    for (std::size_t q = 0; q < plan.products(); ++q) {
+      if (plan.sigma[q] != sigma) {
         if (sigma >= 0) seed(sigma_slot, sigma, 0.0);
-        sigma = h.sigma[q];
+        sigma = plan.sigma[q];
         seed(sigma_slot, sigma, 1.0);
         for (std::size_t k = 0; k < h.num_sigma; ++k) h.sigma_sections[k](w, nullptr, ws_);
       }
-      seed(tau_slot, h.tau[q], 1.0);
+      seed(tau_slot, plan.tau[q], 1.0);
       for (std::size_t k = 0; k < h.num_product; ++k) h.product[k](w, nullptr, ws_);
-      for (int e = h.entry_start[q]; e < h.entry_start[q + 1]; ++e)
-        values[static_cast<std::size_t>(h.entry_index[e])] +=
-            weights[static_cast<std::size_t>(h.entry_weight[e])] * w[h.entry_slot[e]];
-      seed(tau_slot, h.tau[q], 0.0);
+      for (auto e = static_cast<std::size_t>(plan.entry_start[q]); e < static_cast<std::size_t>(plan.entry_start[q + 1]); ++e)
+        values[static_cast<std::size_t>(plan.entry_index[e])] +=
+            weights[static_cast<std::size_t>(plan.entry_weight[e])] * w[plan.entry_slot[e]];
+      seed(tau_slot, plan.tau[q], 0.0);
     }
     if (sigma >= 0) seed(sigma_slot, sigma, 0.0);
   }
@@ -526,23 +526,26 @@ private:
     w_[event_seed_t] = dt;
   }
 
-  // The products of Hessian k to run for the wanted columns of its last call.
-  const std::vector<std::uint8_t>& wanted_products(std::size_t k, std::span<const std::uint8_t> columns) {
-    if (!products_known_[k] || !std::equal(columns.begin(), columns.end(), wanted_columns_[k].begin(),
-                                           wanted_columns_[k].end())) {
+  // The products of Hessian k for the wanted columns of its last call.
+  const G::HessianPlan& hessian_plan(std::size_t k, std::span<const std::uint8_t> columns) {
+    if (!plan_known_[k] || !std::equal(columns.begin(), columns.end(), plan_columns_[k].begin(),
+                                       plan_columns_[k].end())) {
       const HessianTables& h = hessian_tables[k];
-      wanted_columns_[k].assign(columns.begin(), columns.end());
-      G::wanted_products(h.n, h.col_start, h.row_index, h.products, h.entry_start, h.entry_index, columns,
-                         wanted_products_[k]);
-      products_known_[k] = true;
+      const G::HessianTablesView view{h.n, h.col_start, h.row_index, h.colour_start, h.colour_columns,
+                                      h.products, h.sigma, h.tau, h.entry_start, h.entry_weight,
+                                      h.entry_slot, h.entry_index};
+      plan_columns_[k].assign(columns.begin(), columns.end());
+      G::plan_hessian(view, columns, plans_[k]);
+      plan_known_[k] = true;
     }
-    return wanted_products_[k];
+    return plans_[k];
   }
 
   std::vector<double> w_;
   G::BlockWorkspace ws_;
-  std::array<std::vector<std::uint8_t>, 2> wanted_columns_, wanted_products_;
-  std::array<bool, 2> products_known_{};
+  std::array<std::vector<std::uint8_t>, 2> plan_columns_;
+  std::array<G::HessianPlan, 2> plans_;
+  std::array<bool, 2> plan_known_{};
   std::vector<int> cross_, reversed_, relations_;
   std::vector<double> before_, now_;
   std::vector<char> fired_;

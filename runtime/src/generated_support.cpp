@@ -348,23 +348,4 @@ bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws)
   return fail(block.description, block.unknowns, n, w, ws, why);
 }
 
-void wanted_products(int n, const int* col_start, const int* row_index, std::size_t products,
-                     const int* entry_start, const int* entry_index, std::span<const std::uint8_t> columns,
-                     std::vector<std::uint8_t>& out) {
-  out.assign(products, columns.empty() ? 1 : 0);
-  if (columns.empty()) return;
-  std::vector<int> column_of(static_cast<std::size_t>(col_start[n]));  // of each pattern position
-  for (int c = 0; c < n; ++c)
-    for (int k = col_start[c]; k < col_start[c + 1]; ++k) column_of[static_cast<std::size_t>(k)] = c;
-  auto wanted = [&](int column) {
-    const auto c = static_cast<std::size_t>(column);
-    return c < columns.size() && columns[c] != 0;
-  };
-  for (std::size_t q = 0; q < products; ++q)
-    for (int e = entry_start[q]; e < entry_start[q + 1] && !out[q]; ++e) {
-      const auto k = static_cast<std::size_t>(entry_index[e]);
-      out[q] = wanted(row_index[k]) && wanted(column_of[k]);
-    }
-}
-
 }  // namespace mo::runtime::generated

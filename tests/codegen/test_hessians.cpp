@@ -139,7 +139,8 @@ TEST_CASE("cart pendulum with m2 sensitivities: Hessians of f and h", "[hessian]
   CHECK(sensitivity_entries > 0);
 }
 
-TEST_CASE("generated Hessian for wanted columns: their entries bit for bit, the rest skipped", "[hessian]") {
+TEST_CASE("generated Hessian for wanted columns: their entries as the full evaluation, the rest skipped",
+          "[hessian]") {
   auto model = compiled("cart_pendulum_sens", cart_pendulum_m2_sensitivities);
   const runtime::ModelInfo& info = model->info();
   const std::size_t nz = info.states.size() + info.inputs.size() + info.parameters.size();
@@ -160,7 +161,8 @@ TEST_CASE("generated Hessian for wanted columns: their entries bit for bit, the 
         const auto r = static_cast<std::size_t>(sp.row_index[std::size_t(k)]);
         INFO("entry (" << r << ", " << c << ")");
         if (columns[r] && columns[std::size_t(c)]) {
-          CHECK(some[std::size_t(k)] == all[std::size_t(k)]);
+          // Coloured again over the wanted columns: the same values, summed in another order.
+          CHECK(some[std::size_t(k)] == Approx(all[std::size_t(k)]).epsilon(1e-13).margin(1e-300));
         } else if (all[std::size_t(k)] != 0.0) {
           CHECK(some[std::size_t(k)] == 0.0);
           ++skipped;

@@ -150,12 +150,42 @@ bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws);
 /// returns false.
 bool solve_nonlinear(const NonlinearBlock& block, double* w, BlockWorkspace& ws);
 
-/// The products of a generated Hessian to evaluate: out[q] = 1 if one of
-/// product q's entries (entry_index[entry_start[q] .. entry_start[q+1]), positions in
-/// the n×n CSC pattern col_start/row_index) has its row and its column marked in
-/// `columns`; all 1 if `columns` is empty.
-void wanted_products(int n, const int* col_start, const int* row_index, std::size_t products,
-                     const int* entry_start, const int* entry_index, std::span<const std::uint8_t> columns,
-                     std::vector<std::uint8_t>& out);
+/// A generated Hessian's tables as printed (codegen/program.hpp, HessianCode):
+/// the lower-triangle pattern (n×n CSC col_start/row_index), the colouring of
+/// all n columns, and per product q its colours sigma[q] ≤ tau[q] and its entries
+/// entry_start[q] .. entry_start[q+1]: row weight, slot of that row's second
+/// derivative, pattern position.
+struct HessianTablesView {
+  int n = 0;
+  const int* col_start = nullptr;
+  const int* row_index = nullptr;
+  const int* colour_start = nullptr;
+  const int* colour_columns = nullptr;
+  std::size_t products = 0;
+  const int* sigma = nullptr;
+  const int* tau = nullptr;
+  const int* entry_start = nullptr;
+  const int* entry_weight = nullptr;
+  const int* entry_slot = nullptr;
+  const int* entry_index = nullptr;
+};
+
+/// The products a Hessian evaluation runs, in the tables' layout (colours by
+/// colour_start/colour_columns; products sorted by sigma, then tau).
+struct HessianPlan {
+  std::vector<int> colour_start{0}, colour_columns;
+  std::vector<int> sigma, tau;
+  std::vector<int> entry_start{0}, entry_weight, entry_slot, entry_index;
+  std::size_t products() const { return sigma.size(); }
+};
+
+/// The products that give the entries whose row and column are both marked
+/// in `columns` (all entries, as printed, if `columns` is empty). The marked
+/// columns are coloured again so that no row's second derivative involves two
+/// marked columns of one colour (greedy, in column order): each product then
+/// still yields one tensor entry per row, and the unmarked columns, never
+/// seeded, neither cost products nor add to any value. A design fixes the
+/// model's parameters: its products run over the states and inputs alone.
+void plan_hessian(const HessianTablesView& h, std::span<const std::uint8_t> columns, HessianPlan& out);
 
 }  // namespace mo::runtime::generated
