@@ -134,8 +134,26 @@ std::vector<runtime::FreeParameter> free_parameters(const Study& s) {
   return out;
 }
 
-/// The Optimica problem: every input a control (bounds, initialGuess),
-/// free parameters, objective terms and constraints through their outputs.
+/// The inputs that study option `inputs` gives signals (optimal_control and
+/// design: one entry); the model's own iteration variables cannot be given.
+std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>> given_control_inputs(
+    const Study& s, const std::vector<const symbolic::LoopInput*>& loop) {
+  if (s.opt.inputs.empty()) return {};
+  if (s.opt.inputs.size() > 1)
+    throw UsageError(fmt::format("study option inputs: {} has one experiment, so one entry \"u=SPEC;v=SPEC\" "
+                                 "(given {})",
+                                 s.opt.task, s.opt.inputs.size()));
+  auto given = given_inputs(s.info(), s.opt.inputs[0], s.cli.study_file);
+  for (const auto& [input, signal] : given)
+    if (loop[input])
+      throw UsageError("study option inputs: '" + s.info().inputs[input].name +
+                       "' is an iteration variable of the model's nonlinear blocks, not an input");
+  return given;
+}
+
+/// The Optimica problem: every input a control (bounds, initialGuess) unless
+/// study option `inputs` gives it a signal, free parameters, objective terms
+/// and constraints through their outputs.
 runtime::OptimalControlProblem base_problem(const Study& s) {
   const runtime::ModelInfo& info = s.info();
   runtime::OptimalControlProblem p;
@@ -143,7 +161,9 @@ runtime::OptimalControlProblem base_problem(const Study& s) {
   p.tf = s.problem.tf;
   std::vector<const symbolic::LoopInput*> loop(info.inputs.size(), nullptr);
   for (const symbolic::LoopInput& li : s.loops.inputs) loop[li.input] = &li;
+  p.fixed_inputs = given_control_inputs(s, loop);
   for (std::size_t i = 0; i < info.inputs.size(); ++i) {
+    if (p.fixed_inputs.contains(i)) continue;
     runtime::FreeControl c;
     c.input = i;
     if (const symbolic::LoopInput* li = loop[i]) {  // an iteration variable: free at every point
@@ -380,16 +400,31 @@ std::vector<std::string> measured_names(const StudyOptions& o, const std::string
   return names;
 }
 
-/// In optimal_control and design every input is a free control: one that the
-/// initial system reads would make x0 depend on the control at t0, which the
-/// collocation has no derivative for. Reported at the input's declaration.
+/// The inputs that study option `inputs` names ("u=SPEC;v=SPEC" entries).
+std::vector<std::string> given_input_names(const StudyOptions& o) {
+  std::vector<std::string> names;
+  for (const std::string& entry : o.inputs)
+    for (std::size_t begin = 0; begin <= entry.size();) {
+      const std::size_t end = std::min(entry.find(';', begin), entry.size());
+      const std::string item = entry.substr(begin, end - begin);
+      if (const auto eq = item.find('='); eq != std::string::npos) names.push_back(item.substr(0, eq));
+      begin = end + 1;
+    }
+  return names;
+}
+
+/// In optimal_control and design every input not given a signal is a free
+/// control: one that the initial system reads would make x0 depend on the
+/// control at t0, which the collocation has no derivative for. Reported at
+/// the input's declaration.
 bool refuse_controls_in_initial_system(const flat::Model& flat, const symbolic::OdeModel& ode,
-                                       frontend::DiagnosticEngine& diags) {
+                                       const std::vector<std::string>& given, frontend::DiagnosticEngine& diags) {
   const std::vector<bool> read = ode.inputs_in_initial_system();
   bool refused = false;
   for (std::size_t k = 0; k < read.size(); ++k) {
     if (!read[k]) continue;
     const std::string& name = ode.inputs[k].info.name;
+    if (std::find(given.begin(), given.end(), name) != given.end()) continue;
     const std::int32_t var = flat.find(name);
     const frontend::SourceRange where = var >= 0 ? flat.variables[std::size_t(var)].range
                                         : flat.optimization                ? flat.optimization->range
@@ -398,7 +433,8 @@ bool refuse_controls_in_initial_system(const flat::Model& flat, const symbolic::
     std::cerr << diags.format(diags.report(
         frontend::DiagId::BadOptimization, where,
         "the initial system reads input '" + name + "' (the start values depend on its value at the start "
-        "time), so it cannot be a free control of this study; initialise without it, or make it a parameter"));
+        "time), so it cannot be a free control of this study; initialise without it, give it a signal "
+        "(study option inputs), or make it a parameter"));
     refused = true;
   }
   return refused;
@@ -445,7 +481,8 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
     if (const auto params = sensitivity_parameters(flat, parsed.options); !params.empty())
       if (auto error = add_named_sensitivities(*ode, params); !error.empty()) throw UsageError(error);
   }
-  if (constrained && refuse_controls_in_initial_system(flat, *ode, diags)) return 1;
+  if (constrained && refuse_controls_in_initial_system(flat, *ode, given_input_names(parsed.options), diags))
+    return 1;
   if (phased) {
     fs::create_directories(cli.output);
     const bool estimation = parsed.options.task == "estimation";

@@ -159,19 +159,26 @@ runtime::MeasurementTable read_measurements(const std::string& path, const runti
   return t;
 }
 
-std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>> experiment_inputs(
+std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>> given_inputs(
     const runtime::ModelInfo& info, const std::string& spec, const std::string& study_file) {
   std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>> out;
   for (const auto& item : split(spec, ';')) {
     if (item.empty()) continue;
-    auto [name, signal] = split_assignment(item, "experiment input");
+    auto [name, signal] = split_assignment(item, "given input");
     const auto k = info.input_index(name);
-    if (!k) throw UsageError("experiment input: the model has no input '" + name + "'");
+    if (!k) throw UsageError("study option inputs: the model has no input '" + name + "'");
+    if (out.contains(*k)) throw UsageError("study option inputs: input '" + name + "' is given twice");
     const auto colon = signal.find(':');
     if (colon != std::string::npos && (signal.starts_with("csv:") || signal.starts_with("pwc:")))
       signal = signal.substr(0, colon + 1) + resolve_path(study_file, signal.substr(colon + 1));
     out[*k] = parse_signal(name, signal);
   }
+  return out;
+}
+
+std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>> experiment_inputs(
+    const runtime::ModelInfo& info, const std::string& spec, const std::string& study_file) {
+  auto out = given_inputs(info, spec, study_file);
   for (std::size_t i = 0; i < info.inputs.size(); ++i)
     if (!out.contains(i))
       throw UsageError("estimation: input '" + info.inputs[i].name +

@@ -27,8 +27,13 @@ std::string resolve_path(const std::string& study_file, const std::string& path)
 runtime::MeasurementTable read_measurements(const std::string& path, const runtime::ModelInfo& info,
                                             const StudyOptions& options);
 
-/// Signals for every model input from "u=SPEC;v=SPEC" (see parse_signal).
-/// Throws UsageError for an input left without a signal.
+/// Signals of the inputs that "u=SPEC;v=SPEC" names (see parse_signal; csv:
+/// and pwc: files relative to the study file). Throws UsageError for an
+/// unknown input, one named twice or a bad SPEC.
+std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>> given_inputs(
+    const runtime::ModelInfo& info, const std::string& spec, const std::string& study_file);
+
+/// given_inputs(), which must give every model input a signal (else UsageError).
 std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>> experiment_inputs(
     const runtime::ModelInfo& info, const std::string& spec, const std::string& study_file);
 
