@@ -244,9 +244,11 @@ void Flattener::flatten_optimization() {
   flat::Optimization opt;
   opt.range = def.range;
   Scope s{top_.get(), top_->cls, nullptr, true};
-  declare_free_final_time(def);
+  const std::vector<const ast::ElementMod *> attributes = optimization_attributes();
+  declare_free_final_time(attributes);
   opt.free_final_time = free_final_time_;
-  for (const ast::ElementMod &em : def.class_mod.args) {
+  for (const ast::ElementMod *attribute : attributes) {
+    const ast::ElementMod &em = *attribute;
     std::string n = em.path.empty() ? "" : em.path[0];
     ExprPtr *slot = n == "objective" ? &opt.objective : n == "objectiveIntegrand" ? &opt.objective_integrand
                   : n == "startTime" ? &opt.start_time : n == "finalTime" ? &opt.final_time : nullptr;

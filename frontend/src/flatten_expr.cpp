@@ -397,8 +397,8 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
           ref->var = free_final_time_;
           return Tensor::scalar(std::move(ref));
         }
-        for (const ast::ElementMod &em : top_->cls->def->class_mod.args)
-          if (em.path.size() == 1 && em.path[0] == n && em.mod.binding) {
+        for (const ast::ElementMod *attribute : optimization_attributes())
+          if (const ast::ElementMod &em = *attribute; em.path.size() == 1 && em.path[0] == n && em.mod.binding) {
             Scope top_scope{top_.get(), top_->cls, nullptr};
             ExprPtr v = scalar_expr(*em.mod.binding, top_scope);
             return Tensor::scalar(literal(eval(*v, e.range), e.range, v->kind == ExprKind::Integer));

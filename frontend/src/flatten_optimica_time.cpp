@@ -8,6 +8,8 @@
 
 #include <fmt/format.h>
 
+#include <set>
+
 namespace mo::frontend::detail {
 
 using ast::ExprKind;
@@ -22,9 +24,31 @@ struct TimeAttributes {
 
 }  // namespace
 
-void Flattener::declare_free_final_time(const ast::ClassDef &def) {
+std::vector<const ast::ElementMod *> Flattener::optimization_attributes() {
+  std::vector<const ast::ElementMod *> out;
+  std::set<std::string> set;
+  std::set<const ClassNode *> visited;
+  auto visit = [&](auto &self, ClassNode *c) -> void {
+    if (!c || !c->def || !visited.insert(c).second) return;
+    std::vector<std::string> own;
+    for (const ast::ElementMod &em : c->def->class_mod.args) {
+      const std::string n = em.path.empty() ? "" : em.path[0];
+      if (set.count(n)) continue;  // the derived class sets it
+      own.push_back(n);
+      out.push_back(&em);
+    }
+    set.insert(own.begin(), own.end());
+    for (auto &[ext, base] : bases(c, false))
+      if (base && base->def && base->def->restriction == ast::Restriction::Optimization) self(self, base);
+  };
+  visit(visit, top_->cls);
+  return out;
+}
+
+void Flattener::declare_free_final_time(const std::vector<const ast::ElementMod *> &attributes) {
   Scope top{top_.get(), top_->cls, nullptr};
-  for (const ast::ElementMod &em : def.class_mod.args) {
+  for (const ast::ElementMod *attribute : attributes) {
+    const ast::ElementMod &em = *attribute;
     if (em.path.size() != 1 || (em.path[0] != "startTime" && em.path[0] != "finalTime") ||
         em.mod.args.empty())
       continue;

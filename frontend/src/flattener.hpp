@@ -464,11 +464,15 @@ public:
   void connect_pair(Instance *a, bool a_outside, Instance *b, bool b_outside, SourceRange where);
   void flatten_bindings();
   void flatten_optimization();
+  /// The class attributes of the optimization (objective, startTime, ...):
+  /// the top class's own modification, then those of the optimization
+  /// classes it extends (depth first) for the attributes not set before.
+  std::vector<const ast::ElementMod *> optimization_attributes();
   /// Optimica `finalTime(free = true, min, max, initialGuess)` (with or without
-  /// a value): declares the parameter `finalTime` that holds it (see
+  /// a value) among `attributes`: declares the parameter `finalTime` that holds it (see
   /// flatten_optimica_time.cpp) and sets free_final_time_. Reports a free
   /// startTime, unknown attributes and a model variable already named finalTime.
-  void declare_free_final_time(const ast::ClassDef &def);
+  void declare_free_final_time(const std::vector<const ast::ElementMod *> &attributes);
   /// The variable of a free final time, or -1 (finalTime fixed).
   std::int32_t free_final_time_ = -1;
   void check_balance();

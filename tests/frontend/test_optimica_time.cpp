@@ -2,7 +2,8 @@
 // final time with or without a value becomes the free parameter `finalTime`
 // that the objective and the constraints refer to; the defaults 0 and 1 are
 // usable without a header value; a free startTime and unknown attributes are
-// errors with a source position.
+// errors with a source position; an optimization class extending another
+// inherits the attributes it does not set.
 #include "compile.hpp"
 
 #include <catch2/catch.hpp>
@@ -95,4 +96,36 @@ TEST_CASE("Optimica: a free startTime and unknown time attributes are errors", "
                    "Opt");
   CHECK_FALSE(c.ok());
   CHECK(c.diagnostics.find("a variable of the model already has") != std::string::npos);
+}
+
+TEST_CASE("Optimica: an optimization class inherits the class attributes of the one it extends",
+          "[flatten][optimica]") {
+  // A study built on another tool's optimization class (a wrapper adding an
+  // objective) keeps its horizon; attributes the derived class sets win.
+  const std::string base = std::string(kPlant) +
+                           "optimization Base(objective = x(finalTime), startTime = 0.5, finalTime = 3)\n"
+                           "  extends Plant;\nconstraint\n  v <= finalTime;\nend Base;\n";
+  Compiled c = compile_text(base + "optimization Derived(objectiveIntegrand = u^2)\n  extends Base;\nend Derived;\n",
+                            "Derived");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string s = c.model->print();
+  CHECK(s.find("optimization Derived(objective = x(3), objectiveIntegrand = u^2, startTime = 0.5, "
+               "finalTime = 3)") != std::string::npos);
+  CHECK(s.find("v <= 3;") != std::string::npos);
+  Compiled shorter = compile_text(base + "optimization Shorter(finalTime = 2)\n  extends Base;\nend Shorter;\n",
+                                  "Shorter");
+  INFO(shorter.diagnostics);
+  REQUIRE(shorter.ok());
+  CHECK(shorter.model->print().find("optimization Shorter(objective = x(2), startTime = 0.5, finalTime = 2)") !=
+        std::string::npos);
+  // A free final time is inherited too.
+  Compiled free = compile_text(std::string(kPlant) +
+                                   "optimization Fast(objective = finalTime, finalTime(free = true, min = 0.5))\n"
+                                   "  extends Plant;\nend Fast;\n"
+                                   "optimization Faster(objectiveIntegrand = u^2)\n  extends Fast;\nend Faster;\n",
+                               "Faster");
+  INFO(free.diagnostics);
+  REQUIRE(free.ok());
+  CHECK(free.model->optimization->free_final_time >= 0);
 }
