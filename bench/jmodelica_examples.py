@@ -19,9 +19,11 @@ import csv
 import json
 import math
 import os
+import struct
 import subprocess
 import sys
 import tempfile
+import zlib
 
 FILES = "Python/src/pyjmi/examples/files"
 
@@ -30,11 +32,13 @@ FILES = "Python/src/pyjmi/examples/files"
 # simulate: (class, stop time) simulated first with morun, as the example does
 # for its init_traj, its result directory given to the options as {simulation};
 # prepare: the name of a function in PREPARE that runs the example's own
-# Python steps before the solve as morun simulations and returns the --set
-# values and options they give.
+# Python steps before the solve (as morun simulations, or data files written
+# here) and returns the --set values and options they give, and None or a
+# study (file, class) to solve instead of the example's class (which is then
+# loaded as a library).
 # A check is (what, expected, rtol, atol): what is "objective", "final_time",
-# "final:<column of trajectories.csv>" or "information" (design: the
-# criterion JModelica minimises is -trace F).
+# "final:<column of trajectories.csv>", "parameter:<free parameter>" or
+# "information" (design: the criterion JModelica minimises is -trace F).
 EXAMPLES = [
     dict(name="vdp_casadi", file="VDP.mop", cls="VDP_pack.VDP_Opt2", options=["n_e=30"],
          checks=[("final:x1", 0.0, 0, 1e-3), ("final:x2", 0.0, 0, 1e-3)]),
@@ -91,10 +95,13 @@ EXAMPLES = [
          checks=[("final_time", 4.0118, 5e-3, 0)],
          note="blocking_factors per input, du_bounds and the Dymola result as initial guess, "
               "as the example sets them"),
-    dict(name="qt_par_est_casadi", skip="morun reads qt_par_est_data.mat, but the example transforms its "
-         "vectors in Python before use (rows 6000::100, t - 60, levels /100 from cm to m, y1_f renamed x1) "
-         "and penalises the inputs against their data (ExternalData quad_pen on u1, u2 with Q = 10): "
-         "no study option says that"),
+    dict(name="qt_par_est_casadi", msl=True, file="QuadTankPack.mop", cls="QuadTankPack.QuadTank_ParEstCasADi",
+         options=["n_e=60", "piecewise_constant_controls=false"], prepare="quad_tank_data",
+         note="the example's Python as the runner's: qt_par_est_data.mat rows 6000::100, t - 60, levels / 100; "
+              "ExternalData quad_pen (x1, x2 weight 1, u1, u2 weight 10) as a wrapper class extending "
+              "QuadTank_ParEstCasADi with objectiveIntegrand = sum of Q (v - v_data)^2 and the data as given "
+              "inputs (study option inputs); init_result a simulation of QuadTank under the measured inputs",
+         checks=[("parameter:a1", 0.02656702e-4, 1e-4, 0), ("parameter:a2", 0.02713898e-4, 1e-4, 0)]),
     dict(name="cstr_mpc_casadi", skip="model-predictive control: a loop of shifted solves driven by "
          "Python, not one study"),
     dict(name="greybox_identification", skip="grey-box identification driven by Python "
@@ -108,7 +115,7 @@ def first_row(out, names):
     return [float(rows[1][rows[0].index(n)]) for n in names]
 
 
-def cstr_chain(simulate, scratch):
+def cstr_chain(simulate, scratch, files):
     """cstr_casadi's Python before its solve: the stationary points A (Tc = 250)
     and B (Tc = 280) of CSTR_Init (initial equations der(c) = der(T) = 0 at
     the input's value), then CSTR_Init_Optimization simulated for 150 s from
@@ -127,10 +134,86 @@ def cstr_chain(simulate, scratch):
     for v in sets:
         args += ["--set", v]
     simulate("CSTR.CSTR_Init_Optimization", guess, args)
-    return sets, [f'init_result="{guess}/result.csv"']
+    return sets, [f'init_result="{guess}/result.csv"'], None
 
 
-PREPARE = {"cstr_chain": cstr_chain}
+MAT_TYPES = {1: "b", 2: "B", 3: "h", 4: "H", 5: "i", 6: "I", 7: "f", 9: "d", 12: "q", 13: "Q"}
+
+
+def mat5_elements(buf, pos, end, endian):
+    """(type, bytes) of the MAT v5 data elements in buf[pos:end]."""
+    while pos < end:
+        typ, nbytes = struct.unpack_from(endian + "II", buf, pos)
+        if typ >> 16:  # a small element: its size in the upper half, its data in the next 4 bytes
+            yield typ & 0xFFFF, buf[pos + 4:pos + 4 + (typ >> 16)]
+            pos += 8
+            continue
+        yield typ, buf[pos + 8:pos + 8 + nbytes]
+        pos += 8 + nbytes + (0 if typ == 15 else -nbytes % 8)
+
+
+def read_mat5(path):
+    """The real numeric matrices of a MATLAB v5 file: name -> (dims, values in column order)."""
+    buf = open(path, "rb").read()
+    endian = "<" if buf[126:128] == b"IM" else ">"
+    out, pending = {}, list(mat5_elements(buf, 128, len(buf), endian))
+    while pending:
+        typ, data = pending.pop(0)
+        if typ == 15:  # compressed: the elements inside
+            inner = zlib.decompress(data)
+            pending[0:0] = list(mat5_elements(inner, 0, len(inner), endian))
+            continue
+        parts = list(mat5_elements(data, 0, len(data), endian)) if typ == 14 else []
+        numbers = [list(struct.unpack(endian + MAT_TYPES[t] * (len(d) // struct.calcsize(MAT_TYPES[t])), d))
+                   for t, d in parts[:2] + parts[3:4] if t in MAT_TYPES]
+        if len(numbers) == 3 and 6 <= numbers[0][0] & 0xFF <= 15 and not numbers[0][0] & 0x800:  # numeric, real
+            out[parts[2][1].decode()] = (numbers[1], numbers[2])
+    return out
+
+
+def external_data_study(path, base, penalties):
+    """An optimization class extending `base` whose objectiveIntegrand is
+    JModelica's ExternalData quad_pen with a diagonal Q: the sum of
+    weight * (v - v_data)^2 over (v, weight) in `penalties`, v_data an input
+    that study option inputs gives the data."""
+    terms = " + ".join(f"{w!r} * ({v} - {v}_data)^2" for v, w in penalties)
+    inputs = ", ".join(f"{v}_data" for v, _ in penalties)
+    with open(path, "w") as f:
+        f.write(f"optimization ExternalData(objectiveIntegrand = {terms})\n  extends {base};\n"
+                f"  input Real {inputs};\nend ExternalData;\n")
+    return path, "ExternalData"
+
+
+def quad_tank_data(simulate, scratch, files):
+    """qt_par_est_casadi's Python before its solve: the measurements of
+    qt_par_est_data.mat from row 6000 in steps of 100 (t - 60, levels / 100
+    from cm to m), a simulation of QuadTank from the problem's initial levels
+    under the measured inputs (the example's init_traj and nominal_traj), and
+    ExternalData(Q = diag(1, 1, 10, 10), quad_pen = x1, x2, u1, u2)."""
+    mat = read_mat5(os.path.join(files, "qt_par_est_data.mat"))
+    col = {name: values for name, (dims, values) in mat.items()}
+    rows = range(6000, len(col["t"]), 100)
+    series = {"x1": [col["y1_f"][k] / 100 for k in rows], "x2": [col["y2_f"][k] / 100 for k in rows],
+              "u1": [col["u1_d"][k] for k in rows], "u2": [col["u2_d"][k] for k in rows]}
+    times = [col["t"][k] - 60 for k in rows]
+    data = os.path.join(scratch, "quad-tank-data.csv")
+    with open(data, "w") as f:
+        f.write("time," + ",".join(f"{v}_data,{v}" for v in series) + "\n")
+        for k, t in enumerate(times):
+            f.write(f"{t!r}," + ",".join(f"{series[v][k]!r},{series[v][k]!r}" for v in series) + "\n")
+    levels = ["x1_0=0.06255", "x2_0=0.06045", "x3_0=0.02395", "x4_0=0.02325"]  # QuadTank_ParEstCasADi's
+    guess = os.path.join(scratch, "quad-tank-simulation")
+    args = ["--stop-time", "60", "--intervals", "600", "--input", f"u1=csv:{data}", "--input", f"u2=csv:{data}"]
+    for v in levels:
+        args += ["--set", v]
+    simulate("QuadTankPack.QuadTank", guess, args)
+    given = ";".join(f"{v}_data=csv:{data}" for v in series)
+    study = external_data_study(os.path.join(scratch, "QuadTankExternalData.mop"),
+                                "QuadTankPack.QuadTank_ParEstCasADi", [("x1", 1), ("x2", 1), ("u1", 10), ("u2", 10)])
+    return [], [f'inputs={{"{given}"}}', f'init_result="{guess}/result.csv"'], study
+
+
+PREPARE = {"cstr_chain": cstr_chain, "quad_tank_data": quad_tank_data}
 
 
 class StepFailed(Exception):
@@ -144,6 +227,8 @@ def value(what, out):
         return s["objective"]
     if what == "final_time":
         return s.get("final_time", s["horizon"][1])
+    if what.startswith("parameter:"):
+        return s["parameters"][what[10:]]
     if what.startswith("final:"):
         rows = list(csv.reader(open(os.path.join(out, "trajectories.csv"))))
         return float(rows[-1][rows[0].index(what[6:])])
@@ -191,9 +276,12 @@ def run(example, files, morun, scratch, msl, timeout):
             if q.returncode != 0:
                 raise StepFailed(f"the simulation of {cls}: " + first_error(q.stderr))
         try:
-            sets, extra = PREPARE[example["prepare"]](simulate, scratch)
+            sets, extra, study = PREPARE[example["prepare"]](simulate, scratch, files)
         except StepFailed as e:
             return "failed", str(e)
+        if study:  # solved instead of the example's class, which it extends
+            cmd += ["-L", cmd[1]]
+            cmd[1], cmd[3] = study
         for v in sets:
             cmd += ["--set", v]
         options += extra
