@@ -146,7 +146,9 @@ public:
       }
       seed(tau_slot, plan.tau[q], 1.0);
       for (std::size_t k = 0; k < h.num_product; ++k) h.product[k](w, nullptr, ws_);
-      for (auto e = static_cast<std::size_t>(plan.entry_start[q]); e < static_cast<std::size_t>(plan.entry_start[q + 1]); ++e)
+      const auto first = static_cast<std::size_t>(plan.entry_start[q]);
+      const auto last = static_cast<std::size_t>(plan.entry_start[q + 1]);
+      for (std::size_t e = first; e < last; ++e)
         values[static_cast<std::size_t>(plan.entry_index[e])] +=
             weights[static_cast<std::size_t>(plan.entry_weight[e])] * w[plan.entry_slot[e]];
       seed(tau_slot, plan.tau[q], 0.0);
