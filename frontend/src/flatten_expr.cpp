@@ -630,7 +630,17 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
         t.dims.push_back(static_cast<int>(n));
         total *= static_cast<std::size_t>(n);
       }
-      ExprPtr v = name == "fill" ? scalar_expr(*e.args[0], s) : literal(name == "ones" ? 1 : 0, e.range, true);
+      if (name == "fill") { // fill(A, n1, ...): dims n1, ..., then A's own
+        Tensor a = expr(*e.args[0], s);
+        if (a.record)
+          fail(DiagId::Unsupported, e.args[0]->range, "fill() of a record is not supported");
+        t.dims.insert(t.dims.end(), a.dims.begin(), a.dims.end());
+        for (std::size_t i = 0; i < total; ++i)
+          for (const ExprPtr &x : a.elems)
+            t.elems.push_back(x->clone());
+        return t;
+      }
+      ExprPtr v = literal(name == "ones" ? 1 : 0, e.range, true);
       for (std::size_t i = 0; i < total; ++i)
         t.elems.push_back(v->clone());
       return t;

@@ -62,6 +62,42 @@ TEST_CASE("array constructors with several iterators: the last one runs along th
   CHECK(c.model->variables[c.model->find("T[2,1]")].value == -1.0);
 }
 
+TEST_CASE("fill() of an array repeats it along new leading dimensions", "[arrays]") {
+  // The MSL's multi-conductor line (Lines.M_OLine) gives each of its N - 1
+  // segments the row of a per-line vector: `segment s[N - 1](Rl = fill(r * length / N, N - 1))`.
+  Compiled c = compile_text(R"(
+    model Seg
+      parameter Integer lines = 3;
+      parameter Real Rl[lines] = fill(1, lines);
+      Real x[lines](each start = 1, each fixed = true);
+    equation
+      der(x) = -Rl .* x;
+    end Seg;
+    model Chain
+      parameter Real r[3] = {1, 2, 3};
+      parameter Real M[2, 2, 3] = fill(r, 2, 2);
+      Seg s[2](lines = fill(3, 2), Rl = fill(r * 2, 2));
+    end Chain;)",
+                            "Chain");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  CHECK(c.model->variables[c.model->find("M[2,1,3]")].value == 3.0);
+  CHECK(c.model->variables[c.model->find("M[1,2,2]")].value == 2.0);
+  CHECK(c.model->variables[c.model->find("s[2].Rl[3]")].value == 6.0);
+  CHECK(c.model->variables[c.model->find("s[1].Rl[1]")].value == 2.0);
+  // The wrong count of rows for the array of components is still reported.
+  Compiled short_rows = compile_text(R"(
+    model Seg
+      parameter Real Rl[3] = fill(1, 3);
+    end Seg;
+    model Chain
+      Seg s[3](Rl = fill({1, 2, 3}, 2));
+    end Chain;)",
+                                     "Chain");
+  CHECK_FALSE(short_rows.ok());
+  CHECK(short_rows.diagnostics.find("the binding has 2 elements; element 3 is needed") != std::string::npos);
+}
+
 TEST_CASE("array forms with the wrong sizes are reported, not crashed on", "[arrays]") {
   struct Case {
     const char *equation, *message;
