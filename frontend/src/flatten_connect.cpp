@@ -14,7 +14,39 @@ using ast::ExprPtr;
 
 namespace {
 std::string type_of(const Instance *i) { return i->decl ? i->decl->type.str() : "?"; }
+
+/// The scalar (non-array) instances of `i`: itself, or its array elements.
+void scalars(const Instance *i, std::vector<const Instance *> &out) {
+  if (i->dims.empty()) {
+    out.push_back(i);
+    return;
+  }
+  for (const auto &e : i->elements)
+    scalars(e.get(), out);
+}
 } // namespace
+
+bool Flattener::through_disabled(const ast::ComponentRef &ref, const Scope &s) const {
+  if (!s.inst || ref.global)
+    return false;
+  std::vector<const Instance *> level{s.inst};
+  for (const auto &part : ref.parts) {
+    std::size_t off = 0;
+    for (const Instance *i : level)
+      off += disabled_.count({i, part.name});
+    if (off > 0)
+      return off == level.size(); // every element's is off (else connect() reports the missing one)
+    std::vector<const Instance *> next;
+    for (const Instance *i : level) {
+      const auto it = i->member_index.find(part.name);
+      if (it == i->member_index.end())
+        return false; // connect() reports it
+      scalars(it->second, next);
+    }
+    level = std::move(next);
+  }
+  return false;
+}
 
 void Flattener::connect(const ast::Equation &eq, const Scope &s) {
   std::vector<Instance *> side[2];
@@ -22,8 +54,10 @@ void Flattener::connect(const ast::Equation &eq, const Scope &s) {
   bool outside[2];
   const Expr *refs[2] = {eq.lhs.get(), eq.rhs.get()};
   for (int k = 0; k < 2; ++k) {
-    // A connection to a conditional component that is switched off is removed (4.4.5).
-    if (s.inst && disabled_.count({s.inst, refs[k]->ref.parts[0].name}))
+    // A connection to a conditional component that is switched off is removed
+    // (4.4.5), also when the component is inside another one or in each
+    // element of an array of components (connect(resistor.heatPort, heatPort)).
+    if (through_disabled(refs[k]->ref, s))
       return;
     if (!resolve_instances(refs[k]->ref, s, refs[k]->range, dims[k], side[k]))
       fail(DiagId::UnknownComponent, refs[k]->range,

@@ -67,6 +67,20 @@ void Flattener::merge_into(Modifier &inner, const Modifier &outer) {
     merge_into(inner.sub[name], sub);
 }
 
+/// Two declarations of one element that differ at most in attributes other
+/// than the value: same type, prefixes, dimensions and binding (as text).
+static bool same_declaration(const ast::Component &a, const ast::Component &b) {
+  const auto text = [](const ast::ExprPtr &e) { return e ? print_expr(*e) : std::string(); };
+  if (a.type.str() != b.type.str() || a.variability != b.variability || a.causality != b.causality ||
+      a.connection != b.connection || a.inner != b.inner || a.outer != b.outer || a.dims.size() != b.dims.size() ||
+      text(a.mod.binding) != text(b.mod.binding) || text(a.condition) != text(b.condition))
+    return false;
+  for (std::size_t k = 0; k < a.dims.size(); ++k)
+    if (text(a.dims[k]) != text(b.dims[k]))
+      return false;
+  return true;
+}
+
 /// The modifier of array element `index`: bindings not marked `each` are
 /// taken at that element.
 static Modifier element_modifier(const Modifier &m, const std::vector<int> &index) {
@@ -211,6 +225,18 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
       continue;
     }
     if (auto it = inst.member_index.find(c->name); it != inst.member_index.end()) {
+      const ast::Component *prev = it->second->decl;
+      const bool inherited = prev && std::none_of(def.components.begin(), def.components.end(),
+                                                  [&](const ast::Component &own) { return &own == prev; });
+      if (inherited && same_declaration(*prev, *c)) {
+        // The MSL redeclares a base's element with other attributes (MultiPhase's
+        // MutualInductor: `parameter Integer m = 3` over TwoPlug's `m(min = 1) = 3`).
+        diags_.report(DiagId::MergedDuplicate, c->range,
+                      "'" + c->name + "' is also declared by a base class, with other attributes; merged "
+                      "as the base's declaration (Modelica requires identical duplicates)");
+        diags_.note(prev->range, "the base's declaration is here");
+        continue;
+      }
       diags_.report(DiagId::DuplicateDeclaration, c->range, "duplicate declaration of '" + c->name + "'");
       if (it->second->decl)
         diags_.note(it->second->decl->range, "previous declaration is here");

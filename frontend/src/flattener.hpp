@@ -462,6 +462,9 @@ public:
   std::vector<std::pair<std::int32_t, std::int32_t>> connections_;
   std::vector<SourceRange> connection_ranges_;
   void connect_pair(Instance *a, bool a_outside, Instance *b, bool b_outside, SourceRange where);
+  /// True if `ref` passes through a conditional component that is switched
+  /// off (in every element, where it passes through an array of components).
+  bool through_disabled(const ast::ComponentRef &ref, const Scope &s) const;
   void flatten_bindings();
   void flatten_optimization();
   /// The class attributes of the optimization (objective, startTime, ...):

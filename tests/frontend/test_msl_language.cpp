@@ -497,6 +497,79 @@ TEST_CASE("connections to a switched-off conditional component are removed", "[m
   CHECK_FALSE(contains(s, "g.p"));
 }
 
+TEST_CASE("connections through arrays of components to their switched-off connectors are removed", "[msl]") {
+  // MultiPhase.Basic.Resistor: `Resistor resistor[m](each useHeatPort = useHeatPort)`
+  // and `connect(resistor.heatPort, heatPort)` with both heat ports conditional.
+  const std::string model = R"(
+    connector HeatPort
+      Real T;
+      flow Real Q_flow;
+    end HeatPort;
+    model Element
+      parameter Boolean useHeatPort = false;
+      HeatPort heatPort if useHeatPort;
+      Real x(start = 1, fixed = true);
+    equation
+      der(x) = -x;
+    end Element;
+    model Phases
+      parameter Integer m = 3;
+      parameter Boolean useHeatPort = false;
+      Element e[m](each useHeatPort = useHeatPort);
+      HeatPort heatPort[m] if useHeatPort;
+    equation
+      connect(e.heatPort, heatPort);
+    end Phases;
+    model Off
+      Phases p;
+    end Off;
+    model On
+      Phases p(useHeatPort = true);
+    end On;)";
+  Compiled off = compile_text(model, "Off");
+  INFO(off.diagnostics);
+  REQUIRE(off.ok());
+  CHECK_FALSE(contains(off.model->print(), "heatPort"));
+  // Switched on, the connections are made: p.e[k].heatPort.T = p.heatPort[k].T.
+  Compiled on = compile({{"on.mo", model}}, "On", false);
+  INFO(on.diagnostics);
+  REQUIRE(on.ok());
+  CHECK(contains(on.model->print(), "p.heatPort[3].T"));
+  CHECK(contains(on.model->print(), "p.e[3].heatPort.T"));
+}
+
+TEST_CASE("an element declared again with other attributes than its base's is merged, with a warning",
+          "[msl]") {
+  // MultiPhase.Basic.MutualInductor declares `parameter Integer m = 3` over
+  // TwoPlug's `parameter Integer m(min = 1) = 3`.
+  Compiled c = compile_text(R"(
+    partial model TwoPlug
+      parameter Integer m(min = 1) = 3 "Number of phases";
+      Real v[m];
+    end TwoPlug;
+    model Mutual
+      extends TwoPlug;
+      parameter Integer m = 3 "Number of phases";
+    equation
+      v = fill(time, m);
+    end Mutual;)");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  CHECK(contains(c.diagnostics, "warning: 'm' is also declared by a base class, with other attributes"));
+  CHECK(contains(c.model->print(), "parameter Integer m(min = 1) = 3"));
+  // Another value is no duplicate: an error, as before.
+  Compiled other = compile_text(R"(
+    partial model TwoPlug
+      parameter Integer m = 3;
+    end TwoPlug;
+    model Mutual
+      extends TwoPlug;
+      parameter Integer m = 4;
+    end Mutual;)");
+  CHECK_FALSE(other.ok());
+  CHECK(contains(other.diagnostics, "error: duplicate declaration of 'm'"));
+}
+
 TEST_CASE("a component's condition uses the instance's modified parameter, declared after it or not",
           "[msl]") {
   // As the MSL's LimPID: `D ... if with_D` above `parameter Boolean with_D = ...`.
