@@ -106,9 +106,11 @@ ExprPtr Flattener::variable_expr(std::int32_t var, SourceRange where) {
   // No reference into model_->variables is held across eval_param: it can
   // instantiate a later element (member()), which adds variables.
   if (model_->variables[var].variability == ast::Variability::Constant) {
-    const bool integral = model_->variables[var].type != flat::BaseType::Real;
+    const flat::BaseType type = model_->variables[var].type;
     const double v = eval_param(var, where);
-    return integral ? ast::make_integer(v, where) : ast::make_real(v, where);
+    if (type == flat::BaseType::Boolean) // a Boolean stays one (Machines' `constant Boolean quasiStationary`)
+      return ast::make_bool(v != 0.0, where);
+    return type != flat::BaseType::Real ? ast::make_integer(v, where) : ast::make_real(v, where);
   }
   auto r = ast::make_ref(model_->variables[var].name, where);
   r->var = var;

@@ -538,6 +538,29 @@ TEST_CASE("connections through arrays of components to their switched-off connec
   CHECK(contains(on.model->print(), "p.e[3].heatPort.T"));
 }
 
+TEST_CASE("a Boolean constant passed on in a modifier stays a Boolean", "[msl]") {
+  // Machines' PartialBasicDCMachine: `InductorDC la(final quasiStationary = quasiStationary)`
+  // with `constant Boolean quasiStationary = false` declared after it.
+  std::string s = flat(R"(
+    model Ind
+      parameter Boolean quasiStationary(start = false);
+      Real i(start = 0, fixed = true);
+    equation
+      der(i) = if quasiStationary then 0 else 1;
+    end Ind;
+    partial model Machine
+      Ind la(final quasiStationary = quasiStationary);
+      constant Boolean quasiStationary = true;
+    end Machine;
+    model Dc
+      extends Machine;
+    end Dc;
+    model Top
+      Dc m;
+    end Top;)", "Top");
+  CHECK(contains(s, "parameter Boolean `m.la.quasiStationary`(start = false) = true;"));
+}
+
 TEST_CASE("an element declared again with other attributes than its base's is merged, with a warning",
           "[msl]") {
   // MultiPhase.Basic.MutualInductor declares `parameter Integer m = 3` over
