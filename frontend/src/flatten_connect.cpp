@@ -161,6 +161,20 @@ void Flattener::finish_connections() {
   for (std::int32_t root : order) {
     const auto &set = sets[root];
     SourceRange r = first_range[set[0]];
+    const ast::Variability variability = model_->variables[set[0] / 2].variability;
+    if (variability == ast::Variability::Parameter || variability == ast::Variability::Constant) {
+      // Connected parameters (the phase count m of the MSL's plugs) give no
+      // equations: their values must agree (9.2), checked where known.
+      const auto &first = model_->variables[set[0] / 2];
+      for (std::int32_t e : set) {
+        const auto &other = model_->variables[e / 2];
+        if (first.value && other.value && *first.value != *other.value)
+          diags_.report(DiagId::ConnectIncompatible, r,
+                        fmt::format("connected parameters '{}' = {} and '{}' = {} differ", first.name, *first.value,
+                                    other.name, *other.value));
+      }
+      continue;
+    }
     if (model_->variables[set[0] / 2].is_flow) {
       ExprPtr sum;
       for (std::int32_t e : set) {

@@ -538,6 +538,64 @@ TEST_CASE("connections through arrays of components to their switched-off connec
   CHECK(contains(on.model->print(), "p.e[3].heatPort.T"));
 }
 
+TEST_CASE("connected parameters give no equations; different values are an error", "[msl]") {
+  // The MSL's multi-phase plugs carry their phase count: `connector Plug
+  // parameter Integer m = 3; Pin pin[m]; end Plug;` (9.2: no equation for it).
+  const std::string lib = R"(
+    connector Pin
+      Real v;
+      flow Real i;
+    end Pin;
+    connector Plug
+      parameter Integer m = 3;
+      Pin pin[m];
+    end Plug;
+    model Load
+      parameter Integer m = 3;
+      Plug plug(final m = m);
+    equation
+      plug.pin.v = plug.pin.i;
+    end Load;
+    model Source
+      parameter Integer m = 3;
+      Plug plug(final m = m);
+    equation
+      plug.pin.v = fill(sin(time), m);
+    end Source;
+  )";
+  Compiled c = compile_text(lib + R"(
+    model Circuit
+      Source s;
+      Load l;
+    equation
+      connect(s.plug, l.plug);
+    end Circuit;)",
+                            "Circuit");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok()); // balanced: 6 pin equations, 3 + 3 connection equations for 12 unknowns
+  CHECK_FALSE(contains(c.model->print(), "`s.plug.m` = `l.plug.m`"));
+  Compiled mismatch = compile_text(R"(
+    connector Port
+      parameter Real k = 1;
+      Real v;
+      flow Real i;
+    end Port;
+    model End
+      Port port;
+    equation
+      port.v = port.i;
+    end End;
+    model Pair
+      End a(port(k = 1)), b(port(k = 2));
+    equation
+      connect(a.port, b.port);
+    end Pair;)",
+                                   "Pair");
+  INFO(mismatch.diagnostics);
+  CHECK(contains(mismatch.diagnostics, "connected parameters 'a.port.k' = 1 and 'b.port.k' = 2 differ"));
+  CHECK_FALSE(mismatch.ok());
+}
+
 TEST_CASE("a Boolean constant passed on in a modifier stays a Boolean", "[msl]") {
   // Machines' PartialBasicDCMachine: `InductorDC la(final quasiStationary = quasiStationary)`
   // with `constant Boolean quasiStationary = false` declared after it.
