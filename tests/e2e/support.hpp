@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <span>
@@ -85,6 +87,32 @@ inline std::unique_ptr<runtime::Model> compiled_model(const std::string& name, c
     entry.loaded = std::make_unique<codegen::LoadedModel>(so.library, generated.factory_symbol);
   }
   return entry.loaded->create();
+}
+
+/// compiled_model() of a spec that reads the Modelica Standard Library 3.2.2 of
+/// ../shared (beside the checkout, else $MO_SHARED_DIR), found by Modelica's
+/// lookup on MODELICAPATH as a user runs it (restored afterwards); null, with
+/// a "SKIPPED" warning, when there is no such folder.
+inline std::unique_ptr<runtime::Model> msl_compiled_model(const std::string& name, const ModelSpec& spec) {
+  namespace fs = std::filesystem;
+  std::string shared;
+  if (fs::is_directory(fs::path(MO_SOURCE_DIR) / ".." / "shared" / "third_party"))
+    shared = (fs::path(MO_SOURCE_DIR) / ".." / "shared").string();
+  else if (const char* env = std::getenv("MO_SHARED_DIR"); env && fs::is_directory(env))
+    shared = env;
+  if (shared.empty()) {
+    WARN("SKIPPED: no ../shared/third_party (set MO_SHARED_DIR)");
+    return nullptr;
+  }
+  const char* before = std::getenv("MODELICAPATH");
+  const std::string saved = before ? before : "";
+  ::setenv("MODELICAPATH", (shared + "/third_party/msl-3.2.2").c_str(), 1);
+  auto model = compiled_model(name, spec);
+  if (before)
+    ::setenv("MODELICAPATH", saved.c_str(), 1);
+  else
+    ::unsetenv("MODELICAPATH");
+  return model;
 }
 
 /// The values of variable `name` over a trajectory of model `model_name`

@@ -4,8 +4,6 @@
 // count m is a connected parameter), arrays of components with switched-off
 // conditional heat ports, and Boolean constants passed on in modifiers.
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
 
 #include "e2e/support.hpp"
 #include "mo/runtime/simulate.hpp"
@@ -14,24 +12,9 @@ using namespace mo;
 using namespace mo::e2e;
 
 TEST_CASE("the MSL's AIMC_DOL starts and settles at the nominal speed", "[msl]") {
-  namespace fs = std::filesystem;
-  std::string shared;
-  if (fs::is_directory(fs::path(MO_SOURCE_DIR) / ".." / "shared" / "third_party"))
-    shared = (fs::path(MO_SOURCE_DIR) / ".." / "shared").string();
-  else if (const char* env = std::getenv("MO_SHARED_DIR"); env && fs::is_directory(env))
-    shared = env;
-  if (shared.empty()) {
-    WARN("SKIPPED: no ../shared/third_party (set MO_SHARED_DIR)");
-    return;
-  }
-  const char* before = std::getenv("MODELICAPATH");
-  const std::string saved = before ? before : "";
-  ::setenv("MODELICAPATH", (shared + "/third_party/msl-3.2.2").c_str(), 1);
-  auto model = compiled_model("e2e_msl_aimc_dol", {{kData + "MslMachines.mo", "AimcDol", {}, true}, {}});
-  if (before)
-    ::setenv("MODELICAPATH", saved.c_str(), 1);
-  else
-    ::unsetenv("MODELICAPATH");
+  // Found by Modelica's lookup on MODELICAPATH, as a user runs it.
+  auto model = msl_compiled_model("e2e_msl_aimc_dol", {{kData + "MslMachines.mo", "AimcDol", {}, true}, {}});
+  if (!model) return;
   const auto grid = runtime::OutputGrid::uniform(0, 1.5, 150);
   const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
   INFO(r.message);

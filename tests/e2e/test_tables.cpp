@@ -3,8 +3,6 @@
 // a time table's integral, its time events, a 1-D table of a signal and the
 // sensitivity to a table entry follow their closed forms (data/Tables.mo).
 #include <cmath>
-#include <cstdlib>
-#include <filesystem>
 
 #include "e2e/support.hpp"
 #include "mo/runtime/simulate.hpp"
@@ -116,25 +114,9 @@ TEST_CASE("a 1-D table of a signal interpolates and continues its end segments",
 }
 
 TEST_CASE("the MSL's CombiTimeTable, CombiTable1Ds and CombiTable2D follow their closed forms", "[tables][msl]") {
-  namespace fs = std::filesystem;
-  std::string shared;
-  if (fs::is_directory(fs::path(MO_SOURCE_DIR) / ".." / "shared" / "third_party"))
-    shared = (fs::path(MO_SOURCE_DIR) / ".." / "shared").string();
-  else if (const char* env = std::getenv("MO_SHARED_DIR"); env && fs::is_directory(env))
-    shared = env;
-  if (shared.empty()) {
-    WARN("SKIPPED: no ../shared/third_party (set MO_SHARED_DIR)");
-    return;
-  }
   // Found by Modelica's lookup on MODELICAPATH, as a user runs it.
-  const char* before = std::getenv("MODELICAPATH");
-  const std::string saved = before ? before : "";
-  ::setenv("MODELICAPATH", (shared + "/third_party/msl-3.2.2").c_str(), 1);
-  auto model = compiled_model("e2e_tables_msl", {{kData + "MslTables.mo", "MslTables", {}, true}, {}});
-  if (before)
-    ::setenv("MODELICAPATH", saved.c_str(), 1);
-  else
-    ::unsetenv("MODELICAPATH");
+  auto model = msl_compiled_model("e2e_tables_msl", {{kData + "MslTables.mo", "MslTables", {}, true}, {}});
+  if (!model) return;
   const auto grid = runtime::OutputGrid::uniform(0, 4, 80);
   const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
   INFO(r.message);
