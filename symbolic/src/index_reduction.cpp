@@ -2,9 +2,12 @@
 // index_reduction.hpp.
 #include "index_reduction.hpp"
 #include "tiered_matching.hpp"
+#include "dummy_pivots.hpp"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <random>
 #include <fmt/format.h>
 
 #include "dae_build.hpp"
@@ -222,15 +225,65 @@ LeafValues start_point(const Dae& dae) {
   return out;
 }
 
+/// Every variable and derivative, time and the inputs at values drawn from
+/// [0.5, 2] (fixed seed), parameters at their defaults: a point in general
+/// position, where a Jacobian that is singular at every point shows it.
+LeafValues general_point(const Dae& dae) {
+  std::mt19937_64 g(20261127);
+  std::uniform_real_distribution<double> draw(0.5, 2.0);
+  LeafValues values;
+  for (const auto& p : dae.parameters) values[p.symbol] = p.value;
+  values[dae.time] = draw(g);
+  for (const auto& u : dae.inputs) values[u.symbol] = draw(g);
+  for (const auto& d : dae.discrete) values[d.symbol] = d.start;
+  for (const DaeVar& v : dae.vars) values[v.symbol] = draw(g);
+  return values;
+}
+
+/// ∂residual/∂v at each of `points` (0 where it cannot be evaluated or is
+/// not finite).
+std::vector<double> jacobian_entry(Dae& dae, const std::vector<const LeafValues*>& points, int e,
+                                   int v) {
+  const Expr d = derivative(dae.arena, dae.eqs[at(e)].residual, dae.vars[at(v)].symbol);
+  std::vector<double> out;
+  for (const LeafValues* point : points) {
+    try {
+      const double x = evaluate(dae.arena, std::span(&d, 1), *point)[0];
+      out.push_back(std::isfinite(x) ? x : 0.0);
+    } catch (const std::invalid_argument&) {
+      out.push_back(0.0);
+    }
+  }
+  return out;
+}
+
 /// |∂residual/∂v| at the start point (0 if it cannot be evaluated).
 double pivot_size(Dae& dae, const LeafValues& point, int e, int v) {
-  const Expr d = derivative(dae.arena, dae.eqs[at(e)].residual, dae.vars[at(v)].symbol);
-  try {
-    const double x = evaluate(dae.arena, std::span(&d, 1), point)[0];
-    return std::isfinite(x) ? std::abs(x) : 0.0;
-  } catch (const std::invalid_argument&) {
-    return 0.0;
-  }
+  return std::abs(jacobian_entry(dae, {&point}, e, v)[0]);
+}
+
+/// Replaces a choice of dummies that is singular on the level's Jacobian at
+/// the start point and at a general point (so the singularity is not the start
+/// values' accident) by one that is regular at the general point
+/// (dummy_pivots.hpp), where there is one. A choice regular at the start
+/// point is kept.
+void make_regular(Dae& dae, const LeafValues& start, const LeafValues& general,
+                  const std::vector<int>& level, const std::vector<int>& columns,
+                  const std::vector<std::vector<CostEdge>>& rows, std::vector<int>& dummy_of) {
+  if (level.size() * columns.size() > 1'000'000) return;
+  DenseJacobian at_start(level.size(), std::vector<double>(columns.size(), 0.0));
+  DenseJacobian at_general = at_start;
+  std::vector<int> cost(columns.size(), INT_MAX);
+  for (std::size_t r = 0; r < level.size(); ++r)
+    for (const CostEdge& edge : rows[r]) {
+      const auto c = at(edge.col);
+      const auto values = jacobian_entry(dae, {&start, &general}, level[r], columns[c]);
+      at_start[r][c] = values[0];
+      at_general[r][c] = values[1];
+      cost[c] = std::min(cost[c], edge.cost);
+    }
+  if (regular_choice(at_start, dummy_of) || regular_choice(at_general, dummy_of)) return;
+  if (auto regular = regular_columns(at_general, cost)) dummy_of = std::move(*regular);
 }
 
 }  // namespace
@@ -301,6 +354,7 @@ bool structurally_regular(const Dae& dae, frontend::DiagnosticEngine& diags) {
 
 std::vector<bool> select_states(Dae& dae) {
   const LeafValues point = start_point(dae);
+  const LeafValues general = general_point(dae);
   std::vector<bool> state(dae.vars.size(), false);
   for (std::size_t v = 0; v < dae.vars.size(); ++v)
     state[v] = !dae.vars[v].eliminated && dae.vars[v].derivative != none;
@@ -336,7 +390,8 @@ std::vector<bool> select_states(Dae& dae) {
     }
     // Dummies by rank: the best-ranked dummies of all equations of the level
     // together, not equation by equation.
-    const std::vector<int> dummy_of = tiered_matching(rows, static_cast<int>(columns.size()));
+    std::vector<int> dummy_of = tiered_matching(rows, static_cast<int>(columns.size()));
+    make_regular(dae, point, general, level, columns, rows, dummy_of);
     std::fill(candidate.begin(), candidate.end(), 0);
     std::vector<int> next;
     for (std::size_t r = 0; r < level.size(); ++r) {

@@ -31,3 +31,23 @@ TEST_CASE("the MSL's AIMC_DOL starts and settles at the nominal speed", "[msl]")
   CHECK(w[20] > 0.0);
   CHECK(w[20] < 0.5 * w_nominal);
 }
+
+TEST_CASE("the MSL's AIMC_Inverter ramps up and carries the nominal load at the nominal speed", "[msl]") {
+  auto model = msl_compiled_model("e2e_msl_aimc_inverter", {{kData + "MslMachines.mo", "AimcInverter", {}, true}, {}});
+  if (!model) return;
+  const auto grid = runtime::OutputGrid::uniform(0, 1.5, 150);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto w = column(r.trajectory, "aimc.wMechanical");
+  const auto tau = column(r.trajectory, "tau");
+  const auto i0 = column(r.trajectory, "i0");
+  // No-load, just below synchronous speed (2 pole pairs, 50 Hz) before the step.
+  CHECK(w[115] == Approx(50 * M_PI).epsilon(2e-3));
+  CHECK(w[115] < 50 * M_PI);
+  // 0.3 s after the step: the nominal point, 1440.45 rpm and 161.4 N.m.
+  CHECK(w.back() == Approx(1440.45 * 2 * M_PI / 60).epsilon(1e-4));
+  CHECK(tau.back() == Approx(161.4).epsilon(1e-3));
+  // The open star point carries no zero-sequence current.
+  for (double x : i0) CHECK(std::fabs(x) < 1e-9);
+}

@@ -2,7 +2,11 @@
 // level (tiered matching), and a state never moved through a scaled alias.
 #include <catch2/catch.hpp>
 
+#include <algorithm>
+#include <cmath>
+
 #include "../frontend/compile.hpp"
+#include "../../symbolic/src/dummy_pivots.hpp"
 #include "../../symbolic/src/tiered_matching.hpp"
 #include "mo/symbolic/lower.hpp"
 
@@ -44,4 +48,31 @@ TEST_CASE("a differentiated variable is not eliminated through a scaled alias", 
   REQUIRE(ode);
   REQUIRE(ode->states.size() == 1);
   CHECK(ode->states[0].info.name == "vc");
+}
+
+TEST_CASE("dummy pivots: a structurally valid but singular choice is found and replaced", "[lower][states]") {
+  using mo::symbolic::detail::regular_choice;
+  using mo::symbolic::detail::regular_columns;
+  // Columns: der(i1), der(i2), der(i3), der(i0), der(ia), der(ib). Rows: the
+  // open star point, the zero sequence, the two space-phasor rows.
+  const double c = -1.0 / 3, s = 1 / std::sqrt(3.0);
+  const mo::symbolic::detail::DenseJacobian jac{{1, 1, 1, 0, 0, 0},
+                                               {-1, -1, -1, -3, 0, 0},
+                                               {2.0 / 3, c, c, 0, -1, 0},
+                                               {0, s, -s, 0, 0, -1}};
+  // By structure, i1, i2, i3 and ia are dummies: the first two rows then
+  // fix the same sum.
+  CHECK_FALSE(regular_choice(jac, {0, 1, 2, 4}));
+  CHECK(regular_choice(jac, {0, 3, 1, 2}));
+  // Phase currents are the cheaper dummies; i0 is taken where it must be.
+  const auto columns = regular_columns(jac, {10, 10, 10, 18, 18, 18});
+  REQUIRE(columns);
+  CHECK(regular_choice(jac, *columns));
+  CHECK(std::count(columns->begin(), columns->end(), 3) == 1);
+  CHECK(std::count(columns->begin(), columns->end(), 4) == 0);
+  CHECK(std::count(columns->begin(), columns->end(), 5) == 0);
+  // A row that is a combination of the others has no column.
+  CHECK_FALSE(regular_columns({{1, 2}, {2, 4}}, {0, 0}));
+  // Rows left without a dummy are outside the block.
+  CHECK(regular_choice(jac, {0, -1, -1, -1}));
 }

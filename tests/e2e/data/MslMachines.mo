@@ -6,3 +6,14 @@
 model AimcDol
   extends Modelica.Electrical.Machines.Examples.AsynchronousInductionMachines.AIMC_DOL;
 end AimcDol;
+
+// The same machine fed by a voltage-frequency controlled inverter through a
+// grounded star, its own terminals in star with the star point open: the
+// frequency ramps to 50 Hz in 1 s, then the nominal load torque 161.4 N.m
+// steps in at 1.2 s. The open star point and the zero-sequence inductor make
+// the structural choice of dummy derivatives numerically singular.
+model AimcInverter
+  extends Modelica.Electrical.Machines.Examples.AsynchronousInductionMachines.AIMC_Inverter;
+  output Real tau = aimc.tauElectrical "air-gap torque";
+  output Real i0 = aimc.i_0_s "stator zero-sequence current";
+end AimcInverter;
