@@ -280,8 +280,21 @@ static Tensor binary(Flattener &f, Op op, Tensor a, Tensor b, SourceRange r) {
   Op scalar_op = op == Op::ElemAdd ? Op::Add : op == Op::ElemSub ? Op::Sub : op == Op::ElemMul ? Op::Mul
                : op == Op::ElemDiv ? Op::Div : op == Op::ElemPow ? Op::Pow : op;
   auto spair = [&](ExprPtr x, ExprPtr y) { return ast::make_binary(scalar_op, std::move(x), std::move(y), r); };
-  if (a.is_scalar() && b.is_scalar())
+  if (a.is_scalar() && b.is_scalar()) {
+    const Expr &x = *a.elems[0], &y = *b.elems[0];
+    if (x.kind == ExprKind::String && y.kind == ExprKind::String) {
+      // Literal strings (String constants included) compare and join here:
+      // lowering has no strings (the MSL's transformers test `C1 == "D"`).
+      if (scalar_op == Op::Eq || scalar_op == Op::Ne)
+        return Tensor::scalar(ast::make_bool((x.text == y.text) == (scalar_op == Op::Eq), r));
+      if (scalar_op == Op::Add) {
+        auto joined = std::make_unique<Expr>(ExprKind::String, r);
+        joined->text = x.text + y.text;
+        return Tensor::scalar(std::move(joined));
+      }
+    }
     return Tensor::scalar(spair(std::move(a.elems[0]), std::move(b.elems[0])));
+  }
   bool elementwise_op = op == Op::Add || op == Op::Sub || op == Op::ElemAdd || op == Op::ElemSub ||
                         op == Op::ElemMul || op == Op::ElemDiv || op == Op::ElemPow ||
                         op == Op::And || op == Op::Or;

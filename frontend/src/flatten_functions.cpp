@@ -1069,7 +1069,8 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
   if (def.is_external) {
     if (def.external_language == "C") {
       Tensor provided;
-      if (provided_external(def.external_function, args, call, s, provided)) {
+      if (provided_external(def.external_function, args, call, s, provided) ||
+          provided_string_function(def.external_function, args, call, s, provided)) {
         std::vector<Tensor> out;
         out.push_back(std::move(provided));
         return out;

@@ -105,6 +105,20 @@ std::shared_ptr<const RecordLayout> Flattener::record_layout(ClassNode *cls, Sou
 ExprPtr Flattener::variable_expr(std::int32_t var, SourceRange where) {
   // No reference into model_->variables is held across eval_param: it can
   // instantiate a later element (member()), which adds variables.
+  if (model_->variables[var].variability != ast::Variability::Continuous &&
+      model_->variables[var].type == flat::BaseType::String) {
+    // A String constant or parameter is its text: lowering has no strings
+    // (the MSL's transformers take substrings of `VectorGroup` when
+    // flattening and test them, `C1 == "D"`).
+    auto r = ast::make_ref(model_->variables[var].name, where);
+    r->var = var;
+    if (const std::optional<std::string> text = eval_string(*r, where)) {
+      auto e = std::make_unique<ast::Expr>(ast::ExprKind::String, where);
+      e->text = *text;
+      return e;
+    }
+    return r;
+  }
   if (model_->variables[var].variability == ast::Variability::Constant) {
     const flat::BaseType type = model_->variables[var].type;
     const double v = eval_param(var, where);

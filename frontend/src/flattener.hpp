@@ -399,6 +399,10 @@ public:
   /// `args` are the call's arguments matched to the function's inputs.
   bool provided_external(const std::string &c_name, const std::vector<const ast::Expr *> &args,
                          const ast::Expr &call, const Scope &s, Tensor &out);
+  /// The same for ModelicaStrings_substring and ModelicaStrings_length on
+  /// constant strings (flatten_strings.cpp): the result in `out`.
+  bool provided_string_function(const std::string &c_name, const std::vector<const ast::Expr *> &args,
+                                const ast::Expr &call, const Scope &s, Tensor &out);
   struct ExternalObject;
   std::map<const Instance *, std::shared_ptr<ExternalObject>> external_objects_;
   /// The table behind the external-object reference `ref` (flattened once).

@@ -51,3 +51,23 @@ TEST_CASE("the MSL's AIMC_Inverter ramps up and carries the nominal load at the 
   // The open star point carries no zero-sequence current.
   for (double x : i0) CHECK(std::fabs(x) < 1e-9);
 }
+
+TEST_CASE("the MSL's TransformerTestbench balances its power over a period", "[msl]") {
+  auto model = msl_compiled_model("e2e_msl_transformer", {{kData + "MslMachines.mo", "TransformerTestbench", {}, true}, {}});
+  if (!model) return;
+  const auto grid = runtime::OutputGrid::uniform(0, 0.1, 1000);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto p1 = column(r.trajectory, "power1"), p2 = column(r.trajectory, "power2");
+  const auto loss = column(r.trajectory, "loss");
+  // Over the last two periods (50 Hz): what enters the primary leaves the
+  // secondary but for the copper losses, about the 300 W of the short-circuit
+  // test at nominal power (the load draws a little less).
+  double in = 0, out = 0, lost = 0;
+  for (std::size_t k = 600; k < 1000; ++k) in += p1[k], out += p2[k], lost += loss[k];
+  CHECK(in > 25e3 * 400);
+  CHECK(in + out == Approx(lost).epsilon(1e-2));
+  CHECK(lost / 400 > 250);
+  CHECK(lost / 400 < 300);
+}

@@ -1068,3 +1068,43 @@ TEST_CASE("a base class named by an import of the class itself", "[msl][lookup]"
     end Use;)";
   CHECK(contains(flat(src), "Real `m.s`(start = 2, fixed = true);"));
 }
+
+TEST_CASE("ModelicaStrings' substring and length are evaluated on constant strings", "[msl]") {
+  // As the MSL's transformers: a connection letter taken from a String
+  // constant, passed as a String parameter, and compared.
+  const std::string lib = R"(
+    function substring
+      input String string; input Integer startIndex; input Integer endIndex;
+      output String result;
+      external "C" result = ModelicaStrings_substring(string, startIndex, endIndex);
+    end substring;
+    function length
+      input String string; output Integer result;
+      external "C" result = ModelicaStrings_length(string);
+    end length;
+    record Data
+      parameter String C1 = "Y";
+      parameter Real n = if C1 == "D" then 1 else sqrt(3);
+    end Data;)";
+  const std::string text = lib + R"(
+    model Transformer
+      constant String VectorGroup = "Dy05";
+      parameter Data data(C1 = substring(VectorGroup, 1, 1));
+      parameter String C2 = substring(VectorGroup, 2, 2);
+      parameter Real star = if C2 == "y" then 1 else 0;
+      parameter Integer len = length(VectorGroup + "x");
+      parameter Integer none = length(substring(VectorGroup, 3, 2));
+    end Transformer;)";
+  CHECK(value(text, "data.n") == 1.0);
+  CHECK(value(text, "star") == 1.0);
+  CHECK(value(text, "len") == 5.0);
+  CHECK(value(text, "none") == 0.0);
+  // An index outside the string is an error at the index.
+  const Compiled bad = compile_text(lib + R"(
+    model Bad
+      constant String g = "Yy00";
+      parameter Real x = if substring(g, 2, 7) == "y" then 1 else 0;
+    end Bad;)");
+  CHECK_FALSE(bad.ok());
+  CHECK(contains(bad.diagnostics, "end index 7 is beyond the string \"Yy00\" (length 4)"));
+}

@@ -17,3 +17,13 @@ model AimcInverter
   output Real tau = aimc.tauElectrical "air-gap torque";
   output Real i0 = aimc.i_0_s "stator zero-sequence current";
 end AimcInverter;
+
+// A three-phase transformer (vector group Yy00, its connection letters taken
+// from `VectorGroup` by Strings.substring when flattening) feeding a
+// resistive load.
+model TransformerTestbench
+  extends Modelica.Electrical.Machines.Examples.Transformers.TransformerTestbench;
+  output Real power1 = transformer.powerBalance.power1 "into the primary";
+  output Real power2 = transformer.powerBalance.power2 "into the secondary";
+  output Real loss = transformer.powerBalance.lossPowerTotal "copper losses";
+end TransformerTestbench;
