@@ -1093,13 +1093,13 @@ TEST_CASE("ModelicaStrings' substring and length are evaluated on constant strin
       parameter String C2 = substring(VectorGroup, 2, 2);
       parameter Real star = if C2 == "y" then 1 else 0;
       parameter Integer len = length(VectorGroup + "x");
-      parameter Integer none = length(substring(VectorGroup, 3, 2));
+      parameter Integer one = length(substring(VectorGroup, 3, -999));
     end Transformer;)";
   CHECK(value(text, "data.n") == 1.0);
   CHECK(value(text, "star") == 1.0);
   CHECK(value(text, "len") == 5.0);
-  CHECK(value(text, "none") == 0.0);
-  // An index outside the string is an error at the index.
+  CHECK(value(text, "one") == 1.0);
+  // An index outside the string, or an end before the start, is an error at the index.
   const Compiled bad = compile_text(lib + R"(
     model Bad
       constant String g = "Yy00";
@@ -1107,4 +1107,10 @@ TEST_CASE("ModelicaStrings' substring and length are evaluated on constant strin
     end Bad;)");
   CHECK_FALSE(bad.ok());
   CHECK(contains(bad.diagnostics, "end index 7 is beyond the string \"Yy00\" (length 4)"));
+  const Compiled backwards = compile_text(lib + R"(
+    model Backwards
+      parameter String s = substring("Yy00", 3, 2);
+    end Backwards;)");
+  CHECK_FALSE(backwards.ok());
+  CHECK(contains(backwards.diagnostics, "end index 2 is before the start index 3"));
 }
