@@ -8,6 +8,7 @@
 #include "mo/symbolic/printer.hpp"
 #include "mo/symbolic/traversal.hpp"
 #include "node_set.hpp"
+#include "pow_rule.hpp"
 
 namespace mo::symbolic {
 
@@ -39,12 +40,13 @@ Expr forward_rule(ExprArena& A, Expr e, const Expr* x, const Expr* d) {
     return A.div(A.sub(d[0], A.mul(e, d[1])), x[1]);
   case ExprKind::Pow: {
     // b*a^(b-1)*da + a^b*log(a)*db, each term only when its seed is nonzero,
-    // so that x^2 needs no log(x) (undefined for x <= 0).
+    // so that x^2 needs no log(x) (undefined for x <= 0); a^b*log(a) is 0 at
+    // a = 0 (pow_rule.hpp).
     Expr result = zero;
     if (!A.is_constant(d[0], 0))
       result = A.mul(A.mul(x[1], A.pow(x[0], A.sub(x[1], one))), d[0]);
     if (!A.is_constant(d[1], 0))
-      result = A.add(result, A.mul(A.mul(e, A.log(x[0])), d[1]));
+      result = A.add(result, A.mul(detail::pow_exponent_partial(A, e, x[0]), d[1]));
     return result;
   }
   case ExprKind::Sin: return A.mul(A.cos(x[0]), d[0]);

@@ -8,6 +8,7 @@
 #include "mo/symbolic/printer.hpp"
 #include "mo/symbolic/traversal.hpp"
 #include "node_set.hpp"
+#include "pow_rule.hpp"
 
 namespace mo::symbolic {
 
@@ -78,7 +79,7 @@ private:
       return;
     case ExprKind::Pow:
       pass(e, 0, [&] { return A.mul(w, A.mul(x[1], A.pow(x[0], A.sub(x[1], one)))); });
-      pass(e, 1, [&] { return A.mul(w, A.mul(e, A.log(x[0]))); });
+      pass(e, 1, [&] { return A.mul(w, detail::pow_exponent_partial(A, e, x[0])); });
       return;
     case ExprKind::Sin: pass(e, 0, [&] { return A.mul(w, A.cos(x[0])); }); return;
     case ExprKind::Cos: pass(e, 0, [&] { return A.neg(A.mul(w, A.sin(x[0]))); }); return;

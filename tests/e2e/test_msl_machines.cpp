@@ -71,3 +71,25 @@ TEST_CASE("the MSL's TransformerTestbench balances its power over a period", "[m
   CHECK(lost / 400 > 250);
   CHECK(lost / 400 < 300);
 }
+
+TEST_CASE("the MSL's DCPM_withLosses starts from rest and both machines reach their nominal points", "[msl]") {
+  // At rest, the losses' derivatives along their exponents were NaN
+  // (log(0)), and the run stopped at t = 0.
+  auto model = msl_compiled_model("e2e_msl_dcpm_losses", {{kData + "MslMachines.mo", "DcpmWithLosses", {}, true}, {}});
+  if (!model) return;
+  const auto grid = runtime::OutputGrid::uniform(0, 2, 200);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto w1 = column(r.trajectory, "dcpm1.wMechanical"), w2 = column(r.trajectory, "dcpm2.wMechanical");
+  const auto ia1 = column(r.trajectory, "ia1"), ia2 = column(r.trajectory, "ia2");
+  CHECK(std::fabs(w1[10]) < 1e-9);  // before the ramp at 0.2 s
+  // The loads' nominal points (wLoad1, wLoad2 of the example): 1425 rpm
+  // without losses, 1417.5 rpm with them, both at the nominal armature
+  // current of 100 A.
+  CHECK(w1.back() == Approx(1425 * 2 * M_PI / 60).epsilon(1e-4));
+  CHECK(w2.back() < w1.back());
+  CHECK(w2.back() == Approx(1417.5 * 2 * M_PI / 60).epsilon(1e-4));
+  CHECK(ia1.back() == Approx(100).epsilon(1e-3));
+  CHECK(ia2.back() == Approx(100).epsilon(1e-3));
+}

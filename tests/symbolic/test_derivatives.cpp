@@ -173,6 +173,21 @@ TEST_CASE("abs has derivative 0 at 0, sign(x) elsewhere", "[symbolic][derivative
   CHECK(value_at(A, d, {{x, -3.0}}) == -1);
 }
 
+TEST_CASE("a power's derivative along its exponent is 0, not NaN, where the base is 0", "[symbolic][derivative]") {
+  // The MSL's speed-dependent losses (w/w0)^p at rest: the Jacobian-vector
+  // product seeds the parameter p too, and a^b*log(a) at a = 0 was NaN.
+  ExprArena A;
+  const Expr x = A.symbol("x", SymbolRole::State, 0);
+  const Expr p = A.symbol("p", SymbolRole::Parameter, 0);
+  const Expr f = A.pow(x, p);
+  const Expr forward = derivative(A, f, p);
+  const Expr reverse = gradient(A, f, std::vector<Expr>{x, p})[1];
+  for (const Expr d : {forward, reverse}) {
+    CHECK(value_at(A, d, {{x, 0.0}, {p, 2.0}}) == 0.0);
+    CHECK(value_at(A, d, {{x, 0.5}, {p, 2.0}}) == Approx(0.25 * std::log(0.5)).epsilon(1e-14));
+  }
+}
+
 TEST_CASE("derivative rules produce the documented forms", "[symbolic][derivative]") {
   ExprArena A;
   const Expr x = A.symbol("x", SymbolRole::State, 0);

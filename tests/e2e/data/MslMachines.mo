@@ -27,3 +27,13 @@ model TransformerTestbench
   output Real power2 = transformer.powerBalance.power2 "into the secondary";
   output Real loss = transformer.powerBalance.lossPowerTotal "copper losses";
 end TransformerTestbench;
+
+// Two permanent-magnet DC machines started by an armature voltage ramp, one
+// without losses and one with friction, core, stray-load and brush losses
+// (speed- and current-dependent powers (w/w0)^p), each driving a quadratic
+// load sized for its own nominal point (100 A at 1425 rpm, and at 1417.5 rpm
+// with losses).
+model DcpmWithLosses
+  extends Modelica.Electrical.Machines.Examples.DCMachines.DCPM_withLosses;
+  output Real ia1 = dcpm1.ia, ia2 = dcpm2.ia;
+end DcpmWithLosses;
