@@ -53,6 +53,15 @@ struct DaeWhen {
   frontend::SourceRange range;
 };
 
+/// der(v) in an initial equation of a variable v that the model's equations
+/// do not differentiate: a placeholder symbol (no DaeVar), which the initial
+/// system defines as the time derivative of v's value there
+/// (initial_system.hpp).
+struct InitialDerivative {
+  int var = none;
+  Expr symbol;
+};
+
 struct Dae {
   ExprArena arena;
   std::string name;
@@ -62,6 +71,7 @@ struct Dae {
   /// The `initial equation` sections: 0 = residual at t0 only (over the same
   /// symbols; alias elimination substitutes into them too).
   std::vector<DaeEq> initial_eqs;
+  std::vector<InitialDerivative> initial_derivatives;  ///< placeholders in initial_eqs
   std::vector<OdeInput> inputs;
   std::vector<OdeParameter> parameters;
   std::vector<OdeDiscrete> discrete;

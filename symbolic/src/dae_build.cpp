@@ -178,6 +178,7 @@ public:
     for (const ast::Equation& eq : f_.equations) equation(eq);
     computed_parameters();
     initial_equations();
+    in_initial_ = false;
     outputs();
     if (!conv_->ok() || !ok_) return std::nullopt;
     return std::move(dae_);
@@ -363,7 +364,7 @@ private:
   Expr der(const ast::Expr& x) {
     const Expr e = conv_->convert(x);
     bool input_hit = false;
-    const Expr d = time_derivative(dae_, e, input_hit);
+    const Expr d = time_derivative(dae_, e, input_hit, in_initial_);
     if (input_hit)
       error(DiagId::DifferentiatedInput, x.range,
             "der() of an expression with an input: inputs cannot be differentiated");
@@ -458,6 +459,7 @@ private:
   LeafValues param_values_;  ///< default value of every parameter symbol
   std::unordered_map<Expr, VariableInfo*, ExprHash> info_of_;  ///< parameter/input/discrete info
   bool ok_ = true;
+  bool in_initial_ = false;  ///< converting the initial equations (der() placeholders)
 };
 
 void Builder::equation(const ast::Equation& eq) {
@@ -513,11 +515,11 @@ void Builder::computed_parameters() {
 
 /// if c1 then A elseif c2 then B else C end if, every branch with the same
 /// number of simple equations: residual_i = if c1 then a_i else if c2 ...
-/// The initial equations as residuals. They may use der(x) only of variables
-/// the model's equations differentiate: a derivative that only an initial
-/// equation mentions would be an unknown no equation of the model determines.
+/// The initial equations as residuals. der(v) of a variable the model's
+/// equations do not differentiate becomes a placeholder that the initial
+/// system defines (Dae::initial_derivatives): the model gains no unknown.
 void Builder::initial_equations() {
-  const std::size_t vars_before = dae_.vars.size();
+  in_initial_ = true;
   for (const ast::Equation& eq : f_.initial_equations) {
     switch (eq.kind) {
     case ast::EquationKind::Simple: {
@@ -535,11 +537,6 @@ void Builder::initial_equations() {
       e.residual = dae_.arena.sub(conv_->convert(*eq.lhs), conv_->convert(*eq.rhs));
       e.range = eq.range;
       dae_.initial_eqs.push_back(e);
-      if (dae_.vars.size() != vars_before) {
-        error(DiagId::UnsupportedInLowering, eq.range,
-              "der() of a variable that the model's equations do not differentiate");
-        return;
-      }
       continue;
     }
     case ast::EquationKind::Call:

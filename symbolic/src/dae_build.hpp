@@ -33,6 +33,8 @@ void mark_source_derivatives(Dae& dae);
 /// d/dt of `e`: every variable v with DAE index maps to der(v) (created on
 /// demand), time to 1; parameters, discrete variables and constants to 0.
 /// Inputs cannot be differentiated: `input_hit` is set if one is reached.
-Expr time_derivative(Dae& dae, Expr e, bool& input_hit);
+/// `initial` (an initial equation): a variable the model does not
+/// differentiate maps to its placeholder (Dae::initial_derivatives) instead.
+Expr time_derivative(Dae& dae, Expr e, bool& input_hit, bool initial = false);
 
 }  // namespace mo::symbolic::detail

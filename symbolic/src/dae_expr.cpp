@@ -156,7 +156,17 @@ Expr ExprConverter::call(const ast::Expr& e) {
   return fail(e, "call of '" + name + "' cannot be lowered");
 }
 
-Expr time_derivative(Dae& dae, Expr e, bool& input_hit) {
+/// The placeholder of der(v) for the initial equations, made on first use.
+Expr initial_derivative(Dae& dae, int v) {
+  for (const InitialDerivative& d : dae.initial_derivatives)
+    if (d.var == v) return d.symbol;
+  const std::string name = dae.symbol_prefix + "initial der(" + dae.vars[static_cast<std::size_t>(v)].info.name + ")";
+  const Expr s = dae.arena.symbol(name, SymbolRole::Algebraic, -1);
+  dae.initial_derivatives.push_back({v, s});
+  return s;
+}
+
+Expr time_derivative(Dae& dae, Expr e, bool& input_hit, bool initial) {
   ExprArena& a = dae.arena;
   ExprMap seeds;
   for (Expr leaf : leaves(a, std::span(&e, 1))) {
@@ -167,6 +177,10 @@ Expr time_derivative(Dae& dae, Expr e, bool& input_hit) {
     } else if (info.role == SymbolRole::Input) {
       input_hit = true;
     } else if (const int v = dae.var_of(leaf); v != none) {
+      if (initial && dae.vars[static_cast<std::size_t>(v)].derivative == none) {
+        seeds[leaf] = initial_derivative(dae, v);
+        continue;
+      }
       const int d = dae.derivative_of(v);
       seeds[leaf] = dae.vars[static_cast<std::size_t>(d)].symbol;
     }

@@ -13,6 +13,7 @@
 #include "solve.hpp"
 #include "tearing.hpp"
 #include "tiered_matching.hpp"
+#include "time_derivatives.hpp"
 
 namespace mo::symbolic::detail {
 
@@ -47,6 +48,7 @@ public:
   bool run() {
     unknowns();
     rows();
+    if (!time_derivatives()) return false;
     const std::vector<int> col_of = match();
     if (!check(col_of)) return false;
     warn_free_states(col_of);
@@ -92,6 +94,22 @@ private:
     for (const auto& [v, start] : in_.fixed_algebraics)
       rows_.push_back({a_.sub(v, start), RowKind::FixedAlgebraic,
                        a_.symbol_info(v).name + " = its start value (fixed = true)", {}, 0});
+  }
+
+  /// The unknowns and rows of der(y) in the initial equations
+  /// (InitialInput::time_derivatives); false after reporting an input.
+  bool time_derivatives() {
+    if (in_.time_derivatives.empty()) return true;
+    const TimeDerivativeRows t = time_derivative_rows(m_, in_.time_derivatives);
+    if (t.input_reached) {
+      diags_.report(DiagId::DifferentiatedInput, first_initial_range(),
+                    "der() in an initial equation of a variable that depends on an input: "
+                    "inputs cannot be differentiated");
+      return false;
+    }
+    for (Expr u : t.unknowns) add_unknown(u, 0.0);
+    for (const auto& [residual, origin] : t.equations) rows_.push_back({residual, RowKind::Model, origin, {}, 0});
+    return true;
   }
 
   /// Required rows first (cost 0), then the fixed = true of variables that

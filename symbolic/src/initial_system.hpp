@@ -3,6 +3,7 @@
 //   unknowns   x, der(x), y            (states, their derivatives, algebraic variables)
 //   equations  the model's steps       (der(x) and y as the ODE computes them)
 //              the initial equations
+//              d/dt of the steps that der(y) of an initial equation needs
 //              v = start(v)            for every variable declared fixed = true
 //              x = start(x)            for the states the equations above leave free
 //
@@ -49,6 +50,13 @@ struct InitialInput {
   std::unordered_set<Expr, ExprHash> start_given;
   /// Tear the nonlinear blocks (LowerOptions::tearing).
   bool tearing = true;
+  /// der(v) in an initial equation of a variable the model computes but does
+  /// not differentiate: (placeholder symbol, v's value over the model's
+  /// symbols). The initial system adds the placeholder as an unknown equal
+  /// to the value's time derivative, taken through the model's steps: the
+  /// derivative of every step on the way becomes an unknown with the step's
+  /// differentiated equation (time_derivatives.cpp).
+  std::vector<std::pair<Expr, Expr>> time_derivatives;
 };
 
 /// Replaces the states' start expressions by the solution of the initial

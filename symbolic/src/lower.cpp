@@ -295,6 +295,7 @@ private:
   InitialInput initial_input() {
     InitialInput in;
     in.tearing = tear_;
+    initial_derivatives(in);
     std::vector<Expr*> targets;
     for (DaeEq& e : dae_.initial_eqs) targets.push_back(&e.residual);
     substitute_in_place(a(), targets, map_);
@@ -313,6 +314,29 @@ private:
         in.fixed_algebraics.emplace_back(it->second, substitute(a(), d.start, map_));
     }
     return in;
+  }
+
+  /// der(v) of the initial equations for v the model does not differentiate:
+  /// the derivative index reduction made, if any, else defined by the
+  /// initial system from v's value (a variable or an eliminated alias).
+  void initial_derivatives(InitialInput& in) {
+    for (const InitialDerivative& d : dae_.initial_derivatives) {
+      const DaeVar& v = dae_.vars[at(d.var)];
+      if (v.derivative != none) {
+        if (const auto it = map_.find(dae_.vars[at(v.derivative)].symbol); it != map_.end()) {
+          map_[d.symbol] = it->second;
+          continue;
+        }
+      }
+      if (!v.eliminated) {
+        in.time_derivatives.emplace_back(d.symbol, map_.at(v.symbol));
+        continue;
+      }
+      const auto it = std::find_if(dae_.eliminated.begin(), dae_.eliminated.end(),
+                                   [&](const OdeOutput& e) { return e.info.name == v.info.name; });
+      if (it != dae_.eliminated.end())
+        in.time_derivatives.emplace_back(d.symbol, substitute(a(), it->value, map_));
+    }
   }
 
   Dae& dae_;

@@ -37,3 +37,12 @@ model DcpmWithLosses
   extends Modelica.Electrical.Machines.Examples.DCMachines.DCPM_withLosses;
   output Real ia1 = dcpm1.ia, ia2 = dcpm2.ia;
 end DcpmWithLosses;
+
+// The induction machine started in steady state at synchronous speed
+// (initial equations der(aimc.idq_sr) = der(aimc.idq_rr) = zeros(2): currents
+// the model does not differentiate), then loaded with the nominal torque at
+// 0.5 s.
+model AimcInitialize
+  extends Modelica.Electrical.Machines.Examples.AsynchronousInductionMachines.AIMC_Initialize;
+  output Real tau = aimc.tauElectrical "air-gap torque";
+end AimcInitialize;
