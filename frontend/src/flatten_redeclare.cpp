@@ -90,6 +90,17 @@ void Flattener::instantiate_redeclared(Instance &inst, const ast::Component &com
   else if (!comp.replaceable)
     diags_.report(DiagId::NotReplaceable, mod.range,
                   "'" + comp.name + "' is redeclared but its declaration is not 'replaceable'");
+  // The original declaration's condition stays (a redeclaration has none of
+  // its own): the MSL machines redeclare `thermalAmbient ... if not
+  // useThermalPort` with their own ambient model.
+  if (comp.condition) {
+    Scope here{&inst, cls, nullptr};
+    ast::ExprPtr c = scalar_expr(*comp.condition, here);
+    if (eval(*c, comp.condition->range) == 0) {
+      disabled_.insert({&inst, comp.name}); // its connections are removed too
+      return;
+    }
+  }
   // The original declaration's modifiers stay, or those of its constraining
   // clause when it has one (MLS 7.3.2); the redeclaration's and outer ones win.
   Modifier cmod = make_modifier(comp.has_constraint ? comp.constraint_mod : comp.mod, &inst, cls);

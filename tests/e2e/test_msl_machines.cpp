@@ -112,3 +112,17 @@ TEST_CASE("the MSL's AIMC_Initialize starts in steady state and then carries the
   CHECK(w.back() == Approx(1440.45 * 2 * M_PI / 60).epsilon(1e-4));
   CHECK(tau.back() == Approx(161.4).epsilon(1e-3));
 }
+
+TEST_CASE("the MSL's DCPM_Temperature warms up to its reference temperature and the nominal point", "[msl]") {
+  auto model = msl_compiled_model("e2e_msl_dcpm_temperature", {{kData + "MslMachines.mo", "DcpmTemperature", {}, true}, {}});
+  if (!model) return;
+  const auto grid = runtime::OutputGrid::uniform(0, 3, 300);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto w = column(r.trajectory, "dcpm.wMechanical");
+  // Warm, the armature has the unmodified machine's resistance: 1425 rpm at
+  // the nominal load (within the exponential's remaining 0.3 K).
+  CHECK(w.back() == Approx(1425 * 2 * M_PI / 60).epsilon(2e-4));
+  CHECK(w.front() > w.back());  // from no-load speed
+}

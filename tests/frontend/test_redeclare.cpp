@@ -114,3 +114,39 @@ TEST_CASE("an outer element without an enclosing inner one is reported", "[redec
     end M;)");
   CHECK(contains(d, "m.mo:4:23: error: no enclosing instance declares an 'inner' element 'e' for this 'outer' one"));
 }
+
+TEST_CASE("a redeclared conditional component keeps its declaration's condition", "[redeclare]") {
+  // As the MSL's machines: `replaceable Ambient thermalAmbient if not
+  // useThermalPort`, redeclared by each machine with its own ambient model.
+  const std::string text = R"(
+    connector HeatPort Real T; flow Real Q; end HeatPort;
+    model Ambient HeatPort port; parameter Real Ta = 300; equation port.T = Ta; end Ambient;
+    model CoolAmbient extends Ambient(Ta = 280); end CoolAmbient;
+    model Core HeatPort port; equation port.Q = port.T - 290; end Core;
+    partial model Machine
+      parameter Boolean useThermalPort = false;
+      Core core;
+      HeatPort thermalPort if useThermalPort;
+      replaceable Ambient thermalAmbient if not useThermalPort;
+    equation
+      connect(core.port, thermalPort);
+      connect(core.port, thermalAmbient.port);
+    end Machine;
+    model Motor extends Machine(redeclare CoolAmbient thermalAmbient); end Motor;
+    model Outside
+      Motor m(useThermalPort = true);
+      Ambient source(Ta = 350);
+    equation
+      connect(m.thermalPort, source.port);
+    end Outside;
+    model Inside Motor m; end Inside;)";
+  // With the port, the redeclared ambient is switched off with its connection.
+  const std::string outside = flat_of("m.mo", text + "\nmodel A extends Outside; end A;");
+  CHECK_FALSE(contains(outside, "thermalAmbient"));
+  CHECK(contains(outside, "m.thermalPort.T"));
+  CHECK(contains(outside, "source.port.T"));
+  // Without it, the redeclared ambient is there, with its own temperature.
+  const std::string inside = flat_of("m.mo", text + "\nmodel B extends Inside; end B;");
+  CHECK(contains(inside, "m.thermalAmbient.Ta` = 280"));
+  CHECK_FALSE(contains(inside, "m.thermalPort"));
+}

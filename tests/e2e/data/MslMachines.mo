@@ -46,3 +46,12 @@ model AimcInitialize
   extends Modelica.Electrical.Machines.Examples.AsynchronousInductionMachines.AIMC_Initialize;
   output Real tau = aimc.tauElectrical "air-gap torque";
 end AimcInitialize;
+
+// A permanent-magnet DC machine with its thermal port used: the machine's
+// own ambient (`thermalAmbient ... if not useThermalPort`, redeclared by the
+// machine) is switched off, and the armature temperature follows an
+// exponential from 20 degC to 80 degC, its reference temperature, after the
+// load step.
+model DcpmTemperature
+  extends Modelica.Electrical.Machines.Examples.DCMachines.DCPM_Temperature;
+end DcpmTemperature;
