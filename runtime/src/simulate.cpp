@@ -123,6 +123,7 @@ private:
   static int rhs_callback(double t, N_Vector x, N_Vector xdot, void* self);
   static int jacobian_callback(double t, N_Vector x, N_Vector fx, SUNMatrix jac, void* self,
                                N_Vector, N_Vector, N_Vector);
+  int difference_jacobian(double t, N_Vector x, N_Vector fx, SUNMatrix jac);
   static int sensitivity_callback(int ns, double t, N_Vector x, N_Vector xdot, N_Vector* s,
                                   N_Vector* sdot, void* self, N_Vector, N_Vector);
   static int root_callback(double t, N_Vector x, double* g, void* self);
@@ -197,20 +198,46 @@ int Simulation::rhs_callback(double t, N_Vector x, N_Vector xdot, void* self) {
   return 1;  // recoverable: CVODES retries with a smaller step
 }
 
-int Simulation::jacobian_callback(double t, N_Vector x, N_Vector, SUNMatrix jac, void* self,
+int Simulation::jacobian_callback(double t, N_Vector x, N_Vector fx, SUNMatrix jac, void* self,
                                   N_Vector, N_Vector, N_Vector) {
   auto& sim = *static_cast<Simulation*>(self);
   sim.evaluate_inputs(t);
   const Sparsity& sp = sim.model_.jacobian_sparsity(Jacobian::f_x);
   sim.model_.jacobian_values(Jacobian::f_x, t, {N_VGetArrayPointer(x), sim.nx_}, sim.u_, sim.p_,
                              sim.fx_values_);
-  if (!all_finite(sim.fx_values_)) return 1;
+  if (!all_finite(sim.fx_values_)) return sim.difference_jacobian(t, x, fx, jac);
   SUNMatZero(jac);
   for (int c = 0; c < sp.cols; ++c) {
     double* column = SUNDenseMatrix_Column(jac, c);
     for (int k = sp.col_start[c]; k < sp.col_start[c + 1]; ++k)
       column[sp.row_index[k]] = sim.fx_values_[k];
   }
+  return 0;
+}
+
+/// The Jacobian by forward differences of the right-hand side, where the
+/// model's own is not finite although f is: a formula whose derivative
+/// overflows where the function does not (the MSL's regularised sign
+/// 2/(1 + exp(z)) - 1 at z = 1000 is -1, its derivative inf/inf). Each state
+/// steps by sqrt(eps)·max(|x|, nominal). Returns 1 (recoverable: CVODES
+/// retries with a smaller step) if a difference is not finite either.
+int Simulation::difference_jacobian(double t, N_Vector x, N_Vector fx, SUNMatrix jac) {
+  const double root_eps = std::sqrt(std::numeric_limits<double>::epsilon());
+  const double* f0 = N_VGetArrayPointer(fx);
+  std::vector<double> xs(N_VGetArrayPointer(x), N_VGetArrayPointer(x) + nx_), f(nx_);
+  for (std::size_t c = 0; c < nx_; ++c) {
+    const double saved = xs[c];
+    xs[c] += root_eps * std::max(std::abs(saved), std::abs(info_.states[c].nominal));
+    const double step = xs[c] - saved;
+    model_.rhs(t, xs, u_, p_, f);
+    xs[c] = saved;
+    double* column = SUNDenseMatrix_Column(jac, static_cast<sunindextype>(c));
+    for (std::size_t r = 0; r < nx_; ++r) {
+      column[r] = (f[r] - f0[r]) / step;
+      if (!std::isfinite(column[r])) return 1;
+    }
+  }
+  ++result_.statistics.difference_jacobians;
   return 0;
 }
 

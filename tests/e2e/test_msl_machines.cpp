@@ -126,3 +126,17 @@ TEST_CASE("the MSL's DCPM_Temperature warms up to its reference temperature and 
   CHECK(w.back() == Approx(1425 * 2 * M_PI / 60).epsilon(2e-4));
   CHECK(w.front() > w.back());  // from no-load speed
 }
+
+TEST_CASE("the MSL's AIMC_Conveyor runs forwards and backwards at the nominal point", "[msl]") {
+  auto model = msl_compiled_model("e2e_msl_aimc_conveyor", {{kData + "MslMachines.mo", "AimcConveyor", {}, true}, {}});
+  if (!model) return;
+  const auto grid = runtime::OutputGrid::uniform(0, 20, 200);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto w = column(r.trajectory, "aimc.wMechanical");
+  const double w_nominal = 1440.45 * 2 * M_PI / 60;
+  CHECK(w[30] == Approx(w_nominal).epsilon(1e-4));    // t = 3 s, forwards
+  CHECK(w[130] == Approx(-w_nominal).epsilon(1e-4));  // t = 13 s, backwards
+  CHECK(std::fabs(w[80]) < 1e-6);                     // t = 8 s, at rest
+}

@@ -55,3 +55,10 @@ end AimcInitialize;
 model DcpmTemperature
   extends Modelica.Electrical.Machines.Examples.DCMachines.DCPM_Temperature;
 end DcpmTemperature;
+
+// An inverter-fed induction machine driving a conveyor (a mass against the
+// regularised sign force of the nominal load) forwards, then backwards, by
+// a periodic duty cycle: the load force's derivative overflows at speed.
+model AimcConveyor
+  extends Modelica.Electrical.Machines.Examples.AsynchronousInductionMachines.AIMC_Conveyor;
+end AimcConveyor;

@@ -85,6 +85,7 @@ struct SolverStatistics {
   long nonlinear_convergence_failures = 0;  ///< Newton failures
   long events = 0;                   ///< handled state and time events
   long restarts = 0;                 ///< integrator re-initialisations (events and input breakpoints)
+  long difference_jacobians = 0;     ///< Jacobians taken by differences: the model's was not finite there
   double wall_time_seconds = 0.0;    ///< whole simulate() call
 };
 
