@@ -4,6 +4,8 @@
 // count m is a connected parameter), arrays of components with switched-off
 // conditional heat ports, and Boolean constants passed on in modifiers.
 #include <cmath>
+#include <optional>
+#include <string>
 
 #include "e2e/support.hpp"
 #include "mo/runtime/simulate.hpp"
@@ -11,56 +13,64 @@
 using namespace mo;
 using namespace mo::e2e;
 
-TEST_CASE("the MSL's AIMC_DOL starts and settles at the nominal speed", "[msl]") {
-  // Found by Modelica's lookup on MODELICAPATH, as a user runs it.
-  auto model = msl_compiled_model("e2e_msl_aimc_dol", {{kData + "MslMachines.mo", "AimcDol", {}, true}, {}});
-  if (!model) return;
-  const auto grid = runtime::OutputGrid::uniform(0, 1.5, 150);
-  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+namespace {
+
+/// 1440.45 rpm: the induction machine examples' nominal speed, in rad/s.
+const double kNominalSpeed = 1440.45 * 2 * M_PI / 60;
+
+/// The class `cls` of MslMachines.mo, compiled once as `name` against the
+/// MSL of ../shared (found on MODELICAPATH, as a user runs it), simulated
+/// from 0 to `stop` on `intervals` intervals; REQUIREs success. nullopt
+/// (skipped) without ../shared.
+std::optional<runtime::SimulationResult> run_example(const std::string& name, const std::string& cls, double stop,
+                                                     std::size_t intervals) {
+  auto model = msl_compiled_model(name, {{kData + "MslMachines.mo", cls, {}, true}, {}});
+  if (!model) return std::nullopt;
+  const auto grid = runtime::OutputGrid::uniform(0, stop, intervals);
+  auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
   INFO(r.message);
   REQUIRE(r.ok());
-  const auto w = column(r.trajectory, "aimc.wMechanical");
+  return r;
+}
+
+}  // namespace
+
+TEST_CASE("the MSL's AIMC_DOL starts and settles at the nominal speed", "[msl]") {
+  const auto r = run_example("e2e_msl_aimc_dol", "AimcDol", 1.5, 150);
+  if (!r) return;
+  const auto w = column(r->trajectory, "aimc.wMechanical");
   // At rest until the switch closes at 0.1 s.
   CHECK(std::fabs(w[5]) < 1e-9);
   // Settled at the load's nominal point, 1440.45 rpm (where the machine's
   // torque meets the quadratic load's 161.4 N.m).
-  const double w_nominal = 1440.45 * 2 * M_PI / 60;
-  CHECK(w.back() == Approx(w_nominal).epsilon(1e-4));
+  CHECK(w.back() == Approx(kNominalSpeed).epsilon(1e-4));
   CHECK(w[140] == Approx(w.back()).epsilon(1e-6));
   // Accelerating on the way: below half the nominal speed at 0.2 s.
   CHECK(w[20] > 0.0);
-  CHECK(w[20] < 0.5 * w_nominal);
+  CHECK(w[20] < 0.5 * kNominalSpeed);
 }
 
 TEST_CASE("the MSL's AIMC_Inverter ramps up and carries the nominal load at the nominal speed", "[msl]") {
-  auto model = msl_compiled_model("e2e_msl_aimc_inverter", {{kData + "MslMachines.mo", "AimcInverter", {}, true}, {}});
-  if (!model) return;
-  const auto grid = runtime::OutputGrid::uniform(0, 1.5, 150);
-  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto w = column(r.trajectory, "aimc.wMechanical");
-  const auto tau = column(r.trajectory, "tau");
-  const auto i0 = column(r.trajectory, "i0");
+  const auto r = run_example("e2e_msl_aimc_inverter", "AimcInverter", 1.5, 150);
+  if (!r) return;
+  const auto w = column(r->trajectory, "aimc.wMechanical");
+  const auto tau = column(r->trajectory, "tau");
+  const auto i0 = column(r->trajectory, "i0");
   // No-load, just below synchronous speed (2 pole pairs, 50 Hz) before the step.
   CHECK(w[115] == Approx(50 * M_PI).epsilon(2e-3));
   CHECK(w[115] < 50 * M_PI);
   // 0.3 s after the step: the nominal point, 1440.45 rpm and 161.4 N.m.
-  CHECK(w.back() == Approx(1440.45 * 2 * M_PI / 60).epsilon(1e-4));
+  CHECK(w.back() == Approx(kNominalSpeed).epsilon(1e-4));
   CHECK(tau.back() == Approx(161.4).epsilon(1e-3));
   // The open star point carries no zero-sequence current.
   for (double x : i0) CHECK(std::fabs(x) < 1e-9);
 }
 
 TEST_CASE("the MSL's TransformerTestbench balances its power over a period", "[msl]") {
-  auto model = msl_compiled_model("e2e_msl_transformer", {{kData + "MslMachines.mo", "TransformerTestbench", {}, true}, {}});
-  if (!model) return;
-  const auto grid = runtime::OutputGrid::uniform(0, 0.1, 1000);
-  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto p1 = column(r.trajectory, "power1"), p2 = column(r.trajectory, "power2");
-  const auto loss = column(r.trajectory, "loss");
+  const auto r = run_example("e2e_msl_transformer", "TransformerTestbench", 0.1, 1000);
+  if (!r) return;
+  const auto p1 = column(r->trajectory, "power1"), p2 = column(r->trajectory, "power2");
+  const auto loss = column(r->trajectory, "loss");
   // Over the last two periods (50 Hz): what enters the primary leaves the
   // secondary but for the copper losses, about the 300 W of the short-circuit
   // test at nominal power (the load draws a little less).
@@ -75,14 +85,10 @@ TEST_CASE("the MSL's TransformerTestbench balances its power over a period", "[m
 TEST_CASE("the MSL's DCPM_withLosses starts from rest and both machines reach their nominal points", "[msl]") {
   // At rest, the losses' derivatives along their exponents were NaN
   // (log(0)), and the run stopped at t = 0.
-  auto model = msl_compiled_model("e2e_msl_dcpm_losses", {{kData + "MslMachines.mo", "DcpmWithLosses", {}, true}, {}});
-  if (!model) return;
-  const auto grid = runtime::OutputGrid::uniform(0, 2, 200);
-  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto w1 = column(r.trajectory, "dcpm1.wMechanical"), w2 = column(r.trajectory, "dcpm2.wMechanical");
-  const auto ia1 = column(r.trajectory, "ia1"), ia2 = column(r.trajectory, "ia2");
+  const auto r = run_example("e2e_msl_dcpm_losses", "DcpmWithLosses", 2, 200);
+  if (!r) return;
+  const auto w1 = column(r->trajectory, "dcpm1.wMechanical"), w2 = column(r->trajectory, "dcpm2.wMechanical");
+  const auto ia1 = column(r->trajectory, "ia1"), ia2 = column(r->trajectory, "ia2");
   CHECK(std::fabs(w1[10]) < 1e-9);  // before the ramp at 0.2 s
   // The loads' nominal points (wLoad1, wLoad2 of the example): 1425 rpm
   // without losses, 1417.5 rpm with them, both at the nominal armature
@@ -95,32 +101,24 @@ TEST_CASE("the MSL's DCPM_withLosses starts from rest and both machines reach th
 }
 
 TEST_CASE("the MSL's AIMC_Initialize starts in steady state and then carries the nominal load", "[msl]") {
-  auto model = msl_compiled_model("e2e_msl_aimc_initialize", {{kData + "MslMachines.mo", "AimcInitialize", {}, true}, {}});
-  if (!model) return;
-  const auto grid = runtime::OutputGrid::uniform(0, 1.5, 150);
-  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto w = column(r.trajectory, "aimc.wMechanical");
-  const auto tau = column(r.trajectory, "tau");
+  const auto r = run_example("e2e_msl_aimc_initialize", "AimcInitialize", 1.5, 150);
+  if (!r) return;
+  const auto w = column(r->trajectory, "aimc.wMechanical");
+  const auto tau = column(r->trajectory, "tau");
   // Steady at synchronous speed (2 pole pairs, 50 Hz) with no torque: the
   // initial equations put every current where it stays.
   for (std::size_t k = 0; k < 50; ++k) {
     CHECK(w[k] == Approx(50 * M_PI).epsilon(1e-9));
     CHECK(std::fabs(tau[k]) < 1e-6);
   }
-  CHECK(w.back() == Approx(1440.45 * 2 * M_PI / 60).epsilon(1e-4));
+  CHECK(w.back() == Approx(kNominalSpeed).epsilon(1e-4));
   CHECK(tau.back() == Approx(161.4).epsilon(1e-3));
 }
 
 TEST_CASE("the MSL's DCPM_Temperature warms up to its reference temperature and the nominal point", "[msl]") {
-  auto model = msl_compiled_model("e2e_msl_dcpm_temperature", {{kData + "MslMachines.mo", "DcpmTemperature", {}, true}, {}});
-  if (!model) return;
-  const auto grid = runtime::OutputGrid::uniform(0, 3, 300);
-  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto w = column(r.trajectory, "dcpm.wMechanical");
+  const auto r = run_example("e2e_msl_dcpm_temperature", "DcpmTemperature", 3, 300);
+  if (!r) return;
+  const auto w = column(r->trajectory, "dcpm.wMechanical");
   // Warm, the armature has the unmodified machine's resistance: 1425 rpm at
   // the nominal load (within the exponential's remaining 0.3 K).
   CHECK(w.back() == Approx(1425 * 2 * M_PI / 60).epsilon(2e-4));
@@ -128,15 +126,10 @@ TEST_CASE("the MSL's DCPM_Temperature warms up to its reference temperature and 
 }
 
 TEST_CASE("the MSL's AIMC_Conveyor runs forwards and backwards at the nominal point", "[msl]") {
-  auto model = msl_compiled_model("e2e_msl_aimc_conveyor", {{kData + "MslMachines.mo", "AimcConveyor", {}, true}, {}});
-  if (!model) return;
-  const auto grid = runtime::OutputGrid::uniform(0, 20, 200);
-  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto w = column(r.trajectory, "aimc.wMechanical");
-  const double w_nominal = 1440.45 * 2 * M_PI / 60;
-  CHECK(w[30] == Approx(w_nominal).epsilon(1e-4));    // t = 3 s, forwards
-  CHECK(w[130] == Approx(-w_nominal).epsilon(1e-4));  // t = 13 s, backwards
-  CHECK(std::fabs(w[80]) < 1e-6);                     // t = 8 s, at rest
+  const auto r = run_example("e2e_msl_aimc_conveyor", "AimcConveyor", 20, 200);
+  if (!r) return;
+  const auto w = column(r->trajectory, "aimc.wMechanical");
+  CHECK(w[30] == Approx(kNominalSpeed).epsilon(1e-4));    // t = 3 s, forwards
+  CHECK(w[130] == Approx(-kNominalSpeed).epsilon(1e-4));  // t = 13 s, backwards
+  CHECK(std::fabs(w[80]) < 1e-6);                         // t = 8 s, at rest
 }
