@@ -5,9 +5,9 @@
 #include "dummy_pivots.hpp"
 
 #include <algorithm>
-#include <climits>
 #include <cmath>
 #include <random>
+#include <tuple>
 #include <fmt/format.h>
 
 #include "dae_build.hpp"
@@ -257,31 +257,26 @@ std::vector<double> jacobian_entry(Dae& dae, const std::vector<const LeafValues*
   return out;
 }
 
-/// |∂residual/∂v| at the start point (0 if it cannot be evaluated).
-double pivot_size(Dae& dae, const LeafValues& point, int e, int v) {
-  return std::abs(jacobian_entry(dae, {&point}, e, v)[0]);
-}
+/// ∂g/∂v of one equation of a level at the start point and at a general point.
+struct LevelEntry {
+  std::size_t row, col;
+  double at_start, at_general;
+};
 
 /// Replaces a choice of dummies that is singular on the level's Jacobian at
 /// the start point and at a general point (so the singularity is not the start
 /// values' accident) by one that is regular at the general point
 /// (dummy_pivots.hpp), where there is one. A choice regular at the start
 /// point is kept.
-void make_regular(Dae& dae, const LeafValues& start, const LeafValues& general,
-                  const std::vector<int>& level, const std::vector<int>& columns,
-                  const std::vector<std::vector<CostEdge>>& rows, std::vector<int>& dummy_of) {
-  if (level.size() * columns.size() > 1'000'000) return;
-  DenseJacobian at_start(level.size(), std::vector<double>(columns.size(), 0.0));
+void make_regular(std::size_t rows, const std::vector<int>& columns, const std::vector<LevelEntry>& entries,
+                  const std::vector<int>& cost, std::vector<int>& dummy_of) {
+  if (rows * columns.size() > 1'000'000) return;
+  DenseJacobian at_start(rows, std::vector<double>(columns.size(), 0.0));
   DenseJacobian at_general = at_start;
-  std::vector<int> cost(columns.size(), INT_MAX);
-  for (std::size_t r = 0; r < level.size(); ++r)
-    for (const CostEdge& edge : rows[r]) {
-      const auto c = at(edge.col);
-      const auto values = jacobian_entry(dae, {&start, &general}, level[r], columns[c]);
-      at_start[r][c] = values[0];
-      at_general[r][c] = values[1];
-      cost[c] = std::min(cost[c], edge.cost);
-    }
+  for (const LevelEntry& e : entries) {
+    at_start[e.row][e.col] = e.at_start;
+    at_general[e.row][e.col] = e.at_general;
+  }
   if (regular_choice(at_start, dummy_of) || regular_choice(at_general, dummy_of)) return;
   if (auto regular = regular_columns(at_general, cost)) dummy_of = std::move(*regular);
 }
@@ -370,28 +365,35 @@ std::vector<bool> select_states(Dae& dae) {
     std::vector<int> columns;  // candidate variables of this level, by local index
     std::vector<int> local(dae.vars.size(), none);
     std::vector<std::vector<CostEdge>> rows;
+    std::vector<LevelEntry> entries;  // the level's Jacobian, at both points
+    std::vector<int> cost;            // per column: its cheapest edge
     for (int e : level) {
-      std::vector<int> c;
-      for (int v : inc[at(e)])
-        if (candidate[at(v)]) c.push_back(v);
-      std::vector<std::pair<std::pair<int, double>, int>> keyed;
-      for (int v : c) keyed.push_back({{dummy_rank(dae, e, v), -pivot_size(dae, point, e, v)}, v});
+      // (rank, -|pivot at start|), v, ∂g/∂v at start and at the general point
+      std::vector<std::tuple<std::pair<int, double>, int, std::vector<double>>> keyed;
+      for (int v : inc[at(e)]) {
+        if (!candidate[at(v)]) continue;
+        std::vector<double> values = jacobian_entry(dae, {&point, &general}, e, v);
+        keyed.emplace_back(std::pair{dummy_rank(dae, e, v), -std::abs(values[0])}, v, std::move(values));
+      }
       std::stable_sort(keyed.begin(), keyed.end(),
-                       [](const auto& a, const auto& b) { return a.first < b.first; });
+                       [](const auto& a, const auto& b) { return std::get<0>(a) < std::get<0>(b); });
       std::vector<CostEdge> row;
-      for (const auto& [key, v] : keyed) {
+      for (const auto& [key, v, values] : keyed) {
         if (local[at(v)] == none) {
           local[at(v)] = static_cast<int>(columns.size());
           columns.push_back(v);
+          cost.push_back(key.first);
         }
+        cost[at(local[at(v)])] = std::min(cost[at(local[at(v)])], key.first);
         row.push_back({local[at(v)], key.first});
+        entries.push_back({rows.size(), at(local[at(v)]), values[0], values[1]});
       }
       rows.push_back(std::move(row));
     }
     // Dummies by rank: the best-ranked dummies of all equations of the level
     // together, not equation by equation.
     std::vector<int> dummy_of = tiered_matching(rows, static_cast<int>(columns.size()));
-    make_regular(dae, point, general, level, columns, rows, dummy_of);
+    make_regular(level.size(), columns, entries, cost, dummy_of);
     std::fill(candidate.begin(), candidate.end(), 0);
     std::vector<int> next;
     for (std::size_t r = 0; r < level.size(); ++r) {
