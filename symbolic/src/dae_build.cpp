@@ -217,8 +217,9 @@ private:
   /// variable and that reads pre() (or whose d some pre() reads), solving it
   /// as a continuous unknown would put pre(d) = d into a Newton block (the
   /// MSL's friction: `startForward = pre(mode) == Stuck and (sa > tau0_max or
-  /// pre(startForward) and sa > tau0) ...`). It becomes an every-event
-  /// assignment (WhenClause::every_event) and d a discrete variable.
+  /// pre(startForward) and sa > tau0) ...`); one with a relation would switch
+  /// inside the Newton iterations (has_event_relation). It becomes an
+  /// every-event assignment (WhenClause::every_event) and d a discrete variable.
   void mark_event_equations() {
     std::unordered_set<int> pre_read;
     std::vector<const ast::Expr*> roots;
@@ -256,10 +257,27 @@ private:
           (var.variability != ast::Variability::Continuous && var.variability != ast::Variability::Discrete))
         continue;
       std::unordered_set<int> own;
-      if (!pre_read.contains(v) && !pre_reads(*rhs, own)) continue;
+      if (!pre_read.contains(v) && !pre_reads(*rhs, own) && !has_event_relation(*rhs)) continue;
       discrete_.insert(v);
       event_equations_.emplace(&eq, lhs == eq.lhs.get());
     }
+  }
+
+  /// True if `e` holds a relation outside noEvent(): a Boolean equation
+  /// `off = s < 0` (the MSL's ideal diode) is discrete too, held between
+  /// events, its relation an event indicator. Evaluated where it is used, it
+  /// switched during the Newton iterations of the algebraic loop around it.
+  static bool has_event_relation(const ast::Expr& e) {
+    std::vector<const ast::Expr*> stack{&e};
+    while (!stack.empty()) {
+      const ast::Expr* x = stack.back();
+      stack.pop_back();
+      if (x->kind == ast::ExprKind::Call && x->ref.str() == "noEvent") continue;
+      if (x->kind == ast::ExprKind::Binary && x->op >= ast::Op::Lt && x->op <= ast::Op::Ne) return true;
+      for (const auto& a : x->args)
+        if (a) stack.push_back(a.get());
+    }
+    return false;
   }
 
   /// Adds the flat variables that pre() calls in `e` read to `out`; true if

@@ -122,12 +122,60 @@ TEST_CASE("a nested if-equation under varying conditions switches closed, arc, q
   };
   auto model = compiled_model("e2e_nested_if_switch", {{kData + "NestedIfSwitch.mo", "", {}, true}, {}});
   const auto r = simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 1, 50), "vc", exact, 1e-6);
-  REQUIRE(r.event_times.size() == 1);  // time >= tOff is a time event, not reported
+  // `off = time >= tOff` is a discrete Boolean: its change at tOff is an event
+  REQUIRE(r.event_times.size() == 2);
   // After the quench abs(i) - abs(v)*Goff stays at 0 ± rounding: its roots
   // change nothing and must not restart the integrator (hundreds of restarts
   // cost 5e-6 here).
   CHECK(r.statistics.restarts < 10);
-  CHECK(r.event_times[0] == Approx(t_q).margin(1e-7));
+  CHECK(r.event_times[0] == Approx(tOff).margin(1e-12));
+  CHECK(r.event_times[1] == Approx(t_q).margin(1e-7));
+}
+
+TEST_CASE("ideal diodes in an algebraic loop switch at events, held between them (HalfWaveDiode)", "[events]") {
+  // tests/e2e/data/HalfWaveDiode.mo: the diode conducts while the source is
+  // above c = Vknee (1 + R Goff); on, i = (u - c)/(Ron + R) + Goff Vknee and
+  // vd = Ron (u - c)/(Ron + R) + Vknee, off, i = Goff u/(1 + R Goff) = Goff vd;
+  // both equal at the switch.
+  const double V = 10, f = 50, R = 10, Ron = 1e-2, Goff = 1e-5, Vknee = 0.7, stop = 0.05;
+  const double w = 2 * M_PI * f, c = Vknee * (1 + R * Goff), a = std::asin(c / V);
+  std::vector<double> switches;  // on at (a + 2 pi k)/w, off at (pi - a + 2 pi k)/w
+  for (int k = 0; k < 3; ++k)
+    for (double phase : {a, M_PI - a})
+      if (const double t = (phase + 2 * M_PI * k) / w; t < stop) switches.push_back(t);
+  const auto on = [&](double t) { return V * std::sin(w * t) >= c; };
+  const auto diode_voltage = [&](double t) {
+    const double u = V * std::sin(w * t);
+    return on(t) ? Ron * (u - c) / (Ron + R) + Vknee : u / (1 + R * Goff);
+  };
+  // q: the antiderivative of each phase's current, summed over the phases.
+  const auto primitive = [&](double t, bool conducting) {
+    const double cosine = -V * std::cos(w * t) / w;
+    return conducting ? (cosine - c * t) / (Ron + R) + Goff * Vknee * t : Goff * cosine / (1 + R * Goff);
+  };
+  const auto charge = [&](double t) {
+    double q = 0, from = 0;
+    for (double s : switches) {
+      if (s >= t) break;
+      q += primitive(s, on(0.5 * (from + s))) - primitive(from, on(0.5 * (from + s)));
+      from = s;
+    }
+    return q + primitive(t, on(0.5 * (from + t))) - primitive(from, on(0.5 * (from + t)));
+  };
+  auto model = compiled_model("e2e_half_wave_diode", {{kData + "HalfWaveDiode.mo", "", {}, true}, {}});
+  bool off_is_discrete = false;
+  for (const auto& d : model->info().discrete) off_is_discrete = off_is_discrete || d.name == "off";
+  CHECK(off_is_discrete);
+  const auto grid = runtime::OutputGrid::uniform(0, stop, 500);
+  const auto r = simulate_against_exact(*model, grid, "q", charge, 1e-9);
+  // Each switch is an event, found by its indicator s (no event otherwise).
+  REQUIRE(r.event_times.size() == switches.size());
+  for (std::size_t k = 0; k < switches.size(); ++k) CHECK(r.event_times[k] == Approx(switches[k]).margin(1e-9));
+  const auto vd = column(r.trajectory, "vd");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    INFO("t = " << grid.times[k]);
+    CHECK(vd[k] == Approx(diode_voltage(grid.times[k])).margin(1e-9));
+  }
 }
 
 TEST_CASE("a parameter with annotation(Evaluate = true) is structural: C = 0 leaves no capacitor state") {

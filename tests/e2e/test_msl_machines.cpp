@@ -3,7 +3,9 @@
 // built for. The machine's model exercises multi-phase plugs (whose phase
 // count m is a connected parameter), arrays of components with switched-off
 // conditional heat ports, and Boolean constants passed on in modifiers.
+#include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <optional>
 #include <string>
 
@@ -132,4 +134,30 @@ TEST_CASE("the MSL's AIMC_Conveyor runs forwards and backwards at the nominal po
   CHECK(w[30] == Approx(kNominalSpeed).epsilon(1e-4));    // t = 3 s, forwards
   CHECK(w[130] == Approx(-kNominalSpeed).epsilon(1e-4));  // t = 13 s, backwards
   CHECK(std::fabs(w[80]) < 1e-6);                         // t = 8 s, at rest
+}
+
+TEST_CASE("the MSL's Rectifier12pulse commutates every 30 degrees at its DC voltage", "[msl]") {
+  const auto r = run_example("e2e_msl_rectifier12", "Rectifier12pulse", 0.1, 1000);
+  if (!r) return;
+  // Each of the 12 diodes turns on and off once per 20 ms period: 24 events
+  // in each of the last two periods (relations of a Newton block, each an event).
+  const auto events_in = [&](double from, double to) {
+    return std::count_if(r->event_times.begin(), r->event_times.end(),
+                         [&](double t) { return t >= from && t < to; });
+  };
+  CHECK(events_in(0.06, 0.08) == 24);
+  CHECK(events_in(0.08, 0.1) == 24);
+  // The DC voltage over the last period: a 6-pulse bridge's 3 sqrt(2)/pi of
+  // the 100 V line voltage, less the commutation drop (3/pi) X Id and the
+  // resistive drop 2 R Id per bridge, X and R from the transformers' 5 %
+  // impedance and 300 W copper losses at 30 kVA (both bridges carry Id).
+  const auto v = column(r->trajectory, "vLoad");
+  const double mean = std::accumulate(v.begin() + 800, v.end(), 0.0) / double(v.size() - 800);
+  const double Z = 0.05 * 100 * 100 / 30e3, R = 300 / 30e3 / 3, X = std::sqrt(Z * Z - R * R);
+  const double Id = mean / 0.2 / 2;
+  const double expected = 3 * std::sqrt(2) / M_PI * 100 - 3 / M_PI * X * Id - 2 * R * Id;
+  CHECK(mean == Approx(expected).epsilon(1e-2));
+  // Twelve pulses per period: a ripple of about 2 % (a 6-pulse bridge: 20 %).
+  const auto [lo, hi] = std::minmax_element(v.begin() + 800, v.end());
+  CHECK(*hi - *lo < 0.03 * mean);
 }

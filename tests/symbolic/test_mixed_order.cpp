@@ -38,7 +38,7 @@ std::map<std::string, bool> order_of(const std::string& text) {
 
 TEST_CASE("mixed order: the friction's locked and mode before the steps, the start flags after", "[events]") {
   // The mode machine of Rotational.Interfaces.PartialFriction on one inertia;
-  // `free` is a continuous Boolean of time that no mode moves.
+  // `free` is a discrete Boolean of time that no mode moves.
   const auto order = order_of(R"(
 model M
   Real w(start = 0, fixed = true);
@@ -67,7 +67,8 @@ equation
   end when;
 end M;
 )");
-  REQUIRE(order.size() == 4);
+  REQUIRE(order.size() == 5);
+  CHECK(order.at("free"));           // time only
   CHECK(order.at("locked"));         // start flags, pre(mode), free: no step a mode moves
   CHECK(order.at("mode"));           // w is a state
   CHECK_FALSE(order.at("startForward"));   // sa comes from the block that reads locked

@@ -62,3 +62,12 @@ end DcpmTemperature;
 model AimcConveyor
   extends Modelica.Electrical.Machines.Examples.AsynchronousInductionMachines.AIMC_Conveyor;
 end AimcConveyor;
+
+// A 12-pulse rectifier: a three-phase source feeds two diode bridges through
+// a Dy1 and a Dd0 transformer (30 degrees apart); both bridges charge the DC
+// capacitors and a 0.2 Ohm load in parallel. The ideal diodes' `off = s < 0`
+// are relations inside the bridges' algebraic loops.
+model Rectifier12pulse
+  extends Modelica.Electrical.Machines.Examples.Transformers.Rectifier12pulse;
+  output Real vLoad = load.v "DC voltage";
+end Rectifier12pulse;
