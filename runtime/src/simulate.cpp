@@ -134,7 +134,7 @@ private:
   bool set_up();
   void evaluate_inputs(double t);
   void record(double t);
-  bool restart(double t, std::span<const int> crossed = {});
+  bool restart(double t, std::span<const int> crossed = {}, bool hold_crossed = false);
   /// True if one of the indicators with a nonzero entry in `roots` enters
   /// the right-hand side (ModelInfo::indicator_in_rhs), or left a held 0
   /// (±2: restart() releases the hold).
@@ -144,7 +144,7 @@ private:
       if (roots[i] != 0 && (std::abs(roots[i]) != 1 || i >= in_rhs.size() || in_rhs[i])) return true;
     return false;
   }
-  void hold_zero_indicators(double t, std::span<const int> crossed);
+  void hold_zero_indicators(double t, std::span<const int> crossed, bool hold_crossed = false);
   void held_crossings(double t, std::vector<int>& roots);
   bool handle_event(double t, std::span<const int> crossings, bool time_event, bool& changed);
   Eigen::MatrixXd sensitivities() const;
@@ -287,14 +287,19 @@ int Simulation::root_callback(double t, N_Vector x, double* g, void* self) {
 // Left to its other side it is lost, as before. A when-condition `a >= b`
 // on a held indicator leaving 0 upwards fires once more (its value at 0 was
 // already true; the handler takes the value before from the other side).
-void Simulation::hold_zero_indicators(double t, std::span<const int> crossed) {
+//
+// `hold_crossed`: the crossed indicators are held too if they are within
+// kHeldZero of 0 (the same root returned again, see run()).
+void Simulation::hold_zero_indicators(double t, std::span<const int> crossed, bool hold_crossed) {
   held_.assign(ng_, 0);
   if (ng_ == 0) return;
   g_.resize(ng_);
   inputs_.evaluate(t, u_);  // a segment starts here: right limits
   model_.event_indicators(t, states(), u_, p_, g_);
-  for (std::size_t i = 0; i < ng_; ++i)
-    held_[i] = g_[i] == 0.0 && (i >= crossed.size() || crossed[i] == 0);
+  for (std::size_t i = 0; i < ng_; ++i) {
+    const bool was_crossed = i < crossed.size() && crossed[i] != 0;
+    held_[i] = was_crossed ? hold_crossed && std::abs(g_[i]) < kHeldZero : g_[i] == 0.0;
+  }
 }
 
 // CVODES reports a held indicator's |g| - kHeldZero rising through 0; the
@@ -537,8 +542,9 @@ void Simulation::harvest_statistics() {
 }
 
 // Re-initialises CVODES at t from the current x (and S): its counters restart.
-// `crossed`: the crossings of the event just handled (none after a stop).
-bool Simulation::restart(double t, std::span<const int> crossed) {
+// `crossed`: the crossings of the event just handled (none after a stop);
+// `hold_crossed`: see hold_zero_indicators().
+bool Simulation::restart(double t, std::span<const int> crossed, bool hold_crossed) {
   harvest_statistics();
   int flag = CVodeReInit(cvode_.mem, t, x_->v);
   if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeReInit", t), false;
@@ -547,7 +553,7 @@ bool Simulation::restart(double t, std::span<const int> crossed) {
     if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeSensReInit", t), false;
   }
   ++result_.statistics.restarts;
-  hold_zero_indicators(t, crossed);
+  hold_zero_indicators(t, crossed, hold_crossed);
   return true;
 }
 
@@ -705,6 +711,7 @@ SimulationResult Simulation::run() {
   std::size_t next_bp = 0;
   std::vector<int> roots(ng_);
   bool continued = false;  // the last root was passed over without a restart
+  double last_root = std::numeric_limits<double>::quiet_NaN();
   void* cv = cvode_.mem;
   double t = t0;
   while (next_out < times.size()) {
@@ -749,8 +756,14 @@ SimulationResult Simulation::run() {
         // right-hand side: a restart (order 1, a tiny first step) per root
         // of an indicator that stays at 0 ± rounding (a switch's quench test
         // `abs(i) <= abs(v)*Goff or pre(quenched)`) costs accuracy.
-        if (changed || s_ || crosses_rhs(roots)) {
-          if (!restart(t, roots)) return finish();
+        // The same root again, and again nothing changed: CVODES does not
+        // move past an indicator at 0 ± rounding whose value there flips
+        // with its Newton block's start (an idle machine's switch, the
+        // MSL's SMEE_LoadDump): it is held like an indicator exactly 0.
+        const bool repeated = !changed && t == last_root;
+        last_root = t;
+        if (repeated || changed || s_ || crosses_rhs(roots)) {
+          if (!restart(t, roots, repeated)) return finish();
         } else {
           continued = true;
         }

@@ -161,3 +161,29 @@ TEST_CASE("the MSL's Rectifier12pulse commutates every 30 degrees at its DC volt
   const auto [lo, hi] = std::minmax_element(v.begin() + 800, v.end());
   CHECK(*hi - *lo < 0.03 * mean);
 }
+
+TEST_CASE("the MSL's SMEE_LoadDump holds its voltage with and without the load", "[msl]") {
+  const auto r = run_example("e2e_msl_smee_load_dump", "SmeeLoadDump", 10, 10000);
+  if (!r) return;
+  const auto V = column(r->trajectory, "V"), I = column(r->trajectory, "I");
+  const auto tau = column(r->trajectory, "tau"), ie = column(r->trajectory, "ie");
+  const double w = 50 * M_PI;  // 1500 rpm
+  for (std::size_t k : {1900, 5900, 9900}) {  // no load: the open-circuit point
+    INFO("t = " << k / 1000.0);
+    CHECK(V[k] == Approx(100).epsilon(1e-3));
+    CHECK(ie[k] == Approx(10).epsilon(2e-3));  // smeeData.IeOpenCircuit
+    CHECK(std::fabs(tau[k]) < 0.01);
+  }
+  for (std::size_t k : {3900, 7900}) {  // loaded: 100 V across 1 Ohm per phase
+    INFO("t = " << k / 1000.0);
+    CHECK(V[k] == Approx(100).epsilon(1e-3));
+    CHECK(I[k] == Approx(100).epsilon(1e-3));
+    // The generator delivers the load's 3 I^2 R = 24 kW and its own losses.
+    const double load = 3 * I[k] * I[k] * 0.8;
+    CHECK(-tau[k] * w > load);
+    CHECK(-tau[k] * w < 1.05 * load);
+  }
+  // Switched at 2, 4, 6 and 8 s (and the arcs quench after 4 and 8 s).
+  CHECK(std::count_if(r->event_times.begin(), r->event_times.end(),
+                      [](double t) { return std::fabs(t - 2) < 1e-9 || std::fabs(t - 6) < 1e-9; }) == 2);
+}

@@ -218,6 +218,81 @@ TEST_CASE("Time events: handler iterates until discrete variables settle", "[sim
   CHECK(result.trajectory.at(7, 0) == Approx(0.5).margin(1e-8));   // t = 0.7, d = 0
 }
 
+namespace {
+
+/// x' = 1 with two indicators that fall to 0 at t = 1 and stay there up to
+/// rounding that depends on the call (as the quench tests of a switch at
+/// rest, computed by a Newton block from the start it is given): from t = 1
+/// on, one call gives (0, 1e-30), the next (1e-30, 0), and so on. CVODES
+/// then finds at its root that one is 0 and the other becomes 0 just after:
+/// a new root at the same time. Nothing is discrete.
+class NoisyZero final : public Model {
+public:
+  NoisyZero() {
+    info_.name = "NoisyZero";
+    info_.states = {state("x", "")};
+    info_.num_event_indicators = 2;
+    info_.indicator_in_rhs = {false, false};
+    sp_f_ = Sparsity::empty(1, 1);
+    sp_u_ = Sparsity::empty(1, 0);
+    sp_p_ = Sparsity::empty(1, 0);
+    sp_h_ = Sparsity::empty(0, 1);
+    sp_hu_ = Sparsity::empty(0, 0);
+  }
+  const ModelInfo& info() const override { return info_; }
+  std::unique_ptr<Model> clone() const override { return std::make_unique<NoisyZero>(*this); }
+  void initial_state(double, std::span<const double>, std::span<const double>, std::span<double> x0) override {
+    x0[0] = 0.0;
+  }
+  void rhs(double, std::span<const double>, std::span<const double>, std::span<const double>,
+           std::span<double> xdot) override {
+    xdot[0] = 1.0;
+  }
+  void outputs(double, std::span<const double>, std::span<const double>,
+               std::span<const double>, std::span<double>) override {}
+  const Sparsity& jacobian_sparsity(Jacobian block) const override {
+    switch (block) {
+    case Jacobian::f_x: return sp_f_;
+    case Jacobian::f_u: return sp_u_;
+    case Jacobian::f_p:
+    case Jacobian::x0_p: return sp_p_;
+    case Jacobian::h_x: return sp_h_;
+    case Jacobian::h_u:
+    case Jacobian::h_p: return sp_hu_;
+    }
+    return sp_f_;
+  }
+  void jacobian_values(Jacobian, double, std::span<const double>, std::span<const double>,
+                       std::span<const double>, std::span<double>) override {}
+  void event_indicators(double t, std::span<const double>, std::span<const double>,
+                        std::span<const double>, std::span<double> g) override {
+    const bool even = calls_++ % 2 == 0;
+    g[0] = t < 1.0 ? 1.0 - t : even ? 0.0 : 1e-30;
+    g[1] = t < 1.0 ? 1.0 - t : even ? 1e-30 : 0.0;
+  }
+  EventResponse handle_event(const EventCause&, std::span<double>, std::span<const double>,
+                             std::span<const double>) override {
+    return {};
+  }
+  std::span<double> discrete() override { return {}; }
+
+private:
+  ModelInfo info_;
+  std::size_t calls_ = 0;
+  Sparsity sp_f_, sp_u_, sp_p_, sp_h_, sp_hu_;
+};
+
+}  // namespace
+
+TEST_CASE("An indicator at 0 up to rounding does not hold the integration at its root", "[simulate][events]") {
+  NoisyZero model;
+  auto result = simulate(model, Inputs{}, {}, OutputGrid::uniform(0, 3, 30));
+  INFO(result.message);
+  REQUIRE(result.status == SimulationStatus::success);
+  CHECK(result.trajectory.at(30, 0) == Approx(3.0).margin(1e-8));
+  CHECK(result.event_times.empty());  // nothing changed at the roots
+}
+
 TEST_CASE("Input breakpoints restart the integrator at the jump", "[simulate]") {
   LinearDecay model;
   const double k = 1.0;
