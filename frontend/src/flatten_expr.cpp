@@ -103,6 +103,10 @@ static void select(Flattener &f, Instance *a, const std::vector<ExprPtr> &subs, 
     if (!t.is_scalar())
       dims.push_back(static_cast<int>(t.elems.size()));
   }
+  // An empty range (`x[1:0]`, `x[2:n]` with n = 1) selects nothing.
+  for (const auto &p : picks)
+    if (p.empty())
+      return;
   // Row-major combinations of the picked indices.
   std::vector<std::size_t> pos(picks.size(), 0);
   while (true) {

@@ -270,6 +270,12 @@ void Flattener::instantiate_member(Instance &inst, const ast::Component &c, Clas
       diags_.report(DiagId::UnknownModifier, it->second.range, "'" + c.name + "' is final and cannot be modified");
     merge_into(cmod, it->second);
   }
+  // `each` belongs to the arrays of the component whose modifier holds it
+  // (MLS 7.2.5: `C c[5](each a = {1, 2, 3})`), consumed by element_modifier()
+  // there, or meaningless if that component is scalar (the MSL's
+  // `SineVoltage s(each V = fill(v, m))`); the member splits its own binding
+  // over its own dimensions.
+  cmod.each = false;
   const auto modified = [&] {
     auto it = mod.sub.find(c.name);
     return it != mod.sub.end() && it->second.binding;

@@ -1114,3 +1114,51 @@ TEST_CASE("ModelicaStrings' substring and length are evaluated on constant strin
   CHECK_FALSE(backwards.ok());
   CHECK(contains(backwards.diagnostics, "end index 2 is before the start index 3"));
 }
+
+TEST_CASE("each belongs to the arrays of the component whose modifier holds it", "[msl]") {
+  // MLS 7.2.5. The MSL writes `TransferFunction transferFunction[na](each b =
+  // {...})` (b unsized) and `SineVoltage sinevoltage(each V = fill(v, m))` on
+  // a scalar component, where `each` has nothing to apply to: both used to
+  // bind the whole array to each element of b or V.
+  Compiled c = compile_text(R"(
+    model C
+      parameter Real a[3];
+      parameter Real b[:] = {0};
+      Real x(start = 0, fixed = true);
+    equation
+      der(x) = a[1] + a[2] + a[3] + sum(b);
+    end C;
+    model D
+      C e[2];
+    end D;
+    model B
+      C c[2](each a = {1, 2, 3}, each b = {10, 20});
+      C d(each a = {4, 5, 6});
+      D dd[2](e(each a = {7, 8, 9}));
+    end B;)", "B");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string flat = c.model->print();
+  CHECK(contains(flat, "`c[2].a[3]` = 3;"));
+  CHECK(contains(flat, "`c[2].b[1]` = 10;"));
+  CHECK(contains(flat, "`c[2].b[2]` = 20;"));
+  CHECK(contains(flat, "`d.a[2]` = 5;"));
+  CHECK(contains(flat, "`dd[2].e[1].a[3]` = 9;"));
+}
+
+TEST_CASE("an empty range subscript selects nothing", "[msl]") {
+  // `x[2:n]` with n = 1 (the MSL's PowerConverters control with one phase
+  // pair): it used to read past the selection and crash.
+  Compiled c = compile_text(R"(
+    model E
+      parameter Integer n = 1;
+      Real x[n](each start = 1, each fixed = true);
+      Real y;
+    equation
+      der(x) = -x;
+      y = sum(x[2:n]) + x[1];
+    end E;)", "E");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  CHECK(contains(c.model->print(), "y = 0. + `x[1]`;"));
+}
