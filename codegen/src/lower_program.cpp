@@ -267,7 +267,8 @@ private:
     }
   }
 
-  /// The start and interval of every sample() (over parameters only).
+  /// The start and interval of every sample() (over parameters, the start
+  /// also over computed parameters: their states, loaded from x0).
   void samples() {
     if (m_.samples.empty()) return;
     new_section("samples", p_.samples_section);

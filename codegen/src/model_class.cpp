@@ -60,7 +60,7 @@ public:
     load_initial(t0, u0, p);
     section_starts();
     for (std::size_t i = 0; i < nx; ++i) x0[i] = w_[static_cast<std::size_t>(start_slots[i])];
-    load_samples();
+    load_samples(x0);
     if (initial_flag >= 0 || any_every_event()) initial_event(t0, p, x0);
     if (nsample > 0) sample_event_at_start(t0, p, x0);
   }
@@ -395,9 +395,12 @@ private:
       if (!handle_event(after, x0, {}, p).discrete_changed) break;
     event_time_ = std::numeric_limits<double>::quiet_NaN();
   }
-  // start and interval of every sample() at the parameters initial_state loaded.
-  void load_samples() {
+  // start and interval of every sample() at the parameters initial_state
+  // loaded and the start x0 (a start may read a parameter that the initial
+  // equations compute: a state whose derivative is 0).
+  void load_samples(std::span<const double> x0) {
     if (nsample == 0) return;
+    std::copy(x0.begin(), x0.end(), w_.begin() + x_slot);
     run(samples_section, nullptr);
     for (std::size_t i = 0; i < nsample; ++i) {
       sample_start_[i] = w_[static_cast<std::size_t>(sample_start_slot[i])];

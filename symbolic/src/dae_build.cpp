@@ -162,7 +162,11 @@ public:
                   [this](const ast::Expr& r) { return ref(r); },
                   [this](const ast::Expr& x) { return der(x); });
     conv_->on_initial([this] { return initial_flag(); });
-    conv_->on_sample([this](const ast::Expr& c) { return sample_flag(dae_, *conv_, c, param_values_); });
+    conv_->on_sample([this](const ast::Expr& c) {
+      std::unordered_set<Expr, ExprHash> computed;  // computed_parameters(): constant after the start
+      for (int i : computed_) computed.insert(dae_.vars[static_cast<std::size_t>(slots_[static_cast<std::size_t>(i)].var)].symbol);
+      return sample_flag(dae_, *conv_, c, param_values_, computed);
+    });
   }
 
   std::optional<Dae> run() {

@@ -4,6 +4,8 @@
 #pragma once
 
 #include <optional>
+#include <unordered_map>
+#include <unordered_set>
 
 #include "dae.hpp"
 #include "mo/frontend/diagnostics.hpp"
@@ -18,11 +20,14 @@ class ExprConverter;
 
 /// The discrete flag of `call`, a flat `sample(start, interval)`: one per
 /// distinct (start, interval), added to dae.discrete and dae.samples on first
-/// use. start and interval must be parameter expressions, the interval
-/// positive at `parameters` (the parameters' values); otherwise reported
-/// through `conv` (converts to 0).
+/// use. The interval must be a parameter expression, positive at
+/// `parameters` (the parameters' values); the start may also read
+/// `computed`, the variables of parameters that the initial equations compute
+/// (the MSL's Mean: `sample(t0 + 1/f, 1/f)` with `t0 = time` at
+/// initialisation). Otherwise reported through `conv` (converts to 0).
 Expr sample_flag(Dae& dae, ExprConverter& conv, const frontend::ast::Expr& call,
-                 const std::unordered_map<Expr, double, ExprHash>& parameters);
+                 const std::unordered_map<Expr, double, ExprHash>& parameters,
+                 const std::unordered_set<Expr, ExprHash>& computed);
 
 /// Marks the variables whose der() the (alias-reduced) equations contain
 /// (DaeVar::source_derivative), and those among them with a time-invariant

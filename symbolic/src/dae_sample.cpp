@@ -15,10 +15,11 @@ using frontend::DiagId;
 
 namespace {
 
-/// True if `e` reads only parameters and constants (no time, state,
-/// algebraic, input or discrete value).
-bool over_parameters(const ExprArena& a, Expr e) {
+/// True if `e` reads only parameters, constants and the symbols of `also`
+/// (no time, state, algebraic, input or discrete value).
+bool over_parameters(const ExprArena& a, Expr e, const std::unordered_set<Expr, ExprHash>& also) {
   for (Expr leaf : leaves(a, std::span(&e, 1))) {
+    if (also.contains(leaf)) continue;
     if (a.kind(leaf) != ExprKind::Symbol || a.symbol_info(leaf).role != SymbolRole::Parameter)
       return false;
   }
@@ -27,14 +28,16 @@ bool over_parameters(const ExprArena& a, Expr e) {
 
 }  // namespace
 
-Expr sample_flag(Dae& dae, ExprConverter& conv, const ast::Expr& call, const LeafValues& parameters) {
+Expr sample_flag(Dae& dae, ExprConverter& conv, const ast::Expr& call, const LeafValues& parameters,
+                 const std::unordered_set<Expr, ExprHash>& computed) {
   ExprArena& a = dae.arena;
   if (call.args.size() != 2 || !call.named.empty())
     return conv.fail(call, "sample() takes two arguments, sample(start, interval)");
   const Expr start = conv.convert(*call.args[0]), interval = conv.convert(*call.args[1]);
-  if (!over_parameters(a, start) || !over_parameters(a, interval))
-    return conv.fail(call, "sample(start, interval) needs a start and an interval that are "
-                           "parameter expressions");
+  if (!over_parameters(a, start, computed) || !over_parameters(a, interval, {}))
+    return conv.fail(call, "sample(start, interval) needs an interval that is a parameter "
+                           "expression and a start that is one, or reads parameters computed at "
+                           "initialisation");
   double value = 0.0;
   try {
     value = evaluate(a, std::span(&interval, 1), parameters)[0];

@@ -267,6 +267,7 @@ private:
     for (auto& s : out.states) targets.push_back(&s.start);
     for (auto& y : out.outputs) targets.push_back(&y.value);
     for (auto& e : out.eliminated) targets.push_back(&e.value);
+    for (auto& s : out.samples) targets.push_back(&s.start);  // a computed parameter: its state
     for (auto& w : out.whens) {
       targets.push_back(&w.condition);
       for (auto& s : w.assignments) targets.push_back(&s.value);

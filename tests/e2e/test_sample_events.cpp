@@ -144,3 +144,29 @@ TEST_CASE("a collocation study on a model with sample() is refused at the tick")
                    "when-conditions that are one relation") != std::string::npos);
   CHECK(!fs::exists(dir / "out" / "summary.json"));
 }
+
+TEST_CASE("sample(): a start that reads a parameter the initial equations compute (Mean)") {
+  // tests/e2e/data/PeriodMean.mo from t = 0.3: t0 = 0.3, ticks at 0.3 + k/f,
+  // and y the mean of 1 + cos(2 pi t) over the period before the last tick.
+  auto model = compiled_model("e2e_period_mean", {{kData + "PeriodMean.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  const double f = 2, start = 0.3;
+  const auto mean = [&](double a) {  // over [a, a + 1/f]
+    return 1 + f / (2 * M_PI) * (std::sin(2 * M_PI * (a + 1 / f)) - std::sin(2 * M_PI * a));
+  };
+  // every 0.035 s, no row at a tick (where the row's value depends on rounding)
+  const auto grid = runtime::OutputGrid::uniform(start, start + 57 * 0.035, 57);
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  REQUIRE(r.event_times.size() == 3);  // 0.8, 1.3, 1.8
+  for (std::size_t k = 0; k < 3; ++k) CHECK(r.event_times[k] == Approx(start + (k + 1) / f).margin(1e-12));
+  const auto y = column(r.trajectory, "m");
+  for (std::size_t i = 0; i < grid.times.size(); ++i) {
+    const double t = grid.times[i];
+    const int ticks = static_cast<int>(std::floor((t - start) * f));  // ticks before t
+    const double expected = ticks == 0 ? 0.0 : mean(start + (ticks - 1) / f);
+    INFO("t = " << t);
+    CHECK(y[i] == Approx(expected).margin(1e-8));
+  }
+}
