@@ -44,7 +44,8 @@ class GeneratedModel final : public mo::runtime::Model {
 public:
   GeneratedModel() : w_(num_slots, 0.0), cross_(ng, 0), reversed_(ng, 0), relations_(ng, 0),
                      before_(nwhen, 0.0), now_(nwhen, 0.0), fired_(nwhen, 0), init_fired_(nwhen, 0),
-                     sample_start_(nsample, 0.0), sample_interval_(nsample, 1.0) {
+                     sample_start_(nsample, 0.0), sample_interval_(nsample, 1.0),
+                     tick_done_(nsample), tick_raised_(nsample) {
     reset();
   }
 
@@ -224,7 +225,7 @@ public:
     if (initialising_) {
       set_initial(1.0);
       section_steps();
-    } else if (!(cause.t == samples_done_) && raise_samples(cause.t)) {
+    } else if (raise_samples(cause.t)) {
       section_steps();
     }
     // The discrete equations outside when-clauses belong to this iteration's
@@ -266,6 +267,7 @@ public:
           response.states_reinit = true;
         }
         if (!changed) continue;
+        section_steps();  // what the clause assigned, read by the steps (a timer's entry time)
         solve_mixed();
         conditions(cross_.data(), now_);
         again = true;
@@ -277,8 +279,9 @@ public:
     // Once the instant settles, sample() is false again: one more iteration
     // at the same instant lets what depends on it (b = sample(...)) settle too.
     if (!response.discrete_changed && samples_raised_) {
+      for (std::size_t i = 0; i < nsample; ++i)
+        if (!std::isnan(tick_raised_[i])) tick_done_[i] = tick_raised_[i];
       lower_samples();
-      samples_done_ = cause.t;
       response.discrete_changed = true;
     }
     return response;
@@ -359,7 +362,8 @@ private:
   void reset() {
     reset_discrete();
     for (std::size_t i = 0; i < nnewton; ++i) w_[static_cast<std::size_t>(newton_slots[i])] = newton_start[i];
-    event_time_ = samples_done_ = std::numeric_limits<double>::quiet_NaN();
+    event_time_ = std::numeric_limits<double>::quiet_NaN();
+    std::fill(tick_done_.begin(), tick_done_.end(), std::numeric_limits<double>::quiet_NaN());
     lower_samples();
   }
   // Discrete equations outside when-clauses hold at initialisation too (the
@@ -407,26 +411,34 @@ private:
       sample_interval_[i] = w_[static_cast<std::size_t>(sample_interval_slot[i])];
     }
   }
-  // True if t is start + k*interval (k >= 0) of sample i, within rounding.
-  bool sample_tick(std::size_t i, double t) const {
+  // True if t is start + k*interval (k >= 0) of sample i, within rounding;
+  // k in `index`.
+  bool sample_tick(std::size_t i, double t, double* index = nullptr) const {
     const double s = sample_start_[i], h = sample_interval_[i];
     if (!(h > 0.0)) return false;
     const double k = std::nearbyint((t - s) / h);
     const double tolerance = 8 * std::numeric_limits<double>::epsilon() * std::max(1.0, std::abs(t));
+    if (index) *index = k;
     return k >= 0.0 && std::abs(s + k * h - t) <= tolerance;
   }
-  // Sets the flags of the samples that tick at t; true if any does.
+  // Sets the flags of the samples that tick at t; true if any does. A tick
+  // is handled once: a state event within rounding of it (a converter's
+  // zero crossing at a Mean block's tick) is the same instant, not a new tick.
   bool raise_samples(double t) {
     bool& any = samples_raised_;
-    for (std::size_t i = 0; i < nsample; ++i)
-      if (sample_tick(i, t)) {
+    for (std::size_t i = 0; i < nsample; ++i) {
+      double k = 0.0;
+      if (sample_tick(i, t, &k) && !(k == tick_done_[i])) {
         w_[d_slot + static_cast<std::size_t>(sample_flag[i])] = 1.0;
+        tick_raised_[i] = k;
         any = true;
       }
+    }
     return any;
   }
   void lower_samples() {
     samples_raised_ = false;
+    std::fill(tick_raised_.begin(), tick_raised_.end(), std::numeric_limits<double>::quiet_NaN());
     for (std::size_t i = 0; i < nsample; ++i)
       w_[d_slot + static_cast<std::size_t>(sample_flag[i])] =
           w_[pre_d_slot + static_cast<std::size_t>(sample_flag[i])] = 0.0;
@@ -501,6 +513,7 @@ private:
   // from pre(mode) and the start flags, `sa` from `locked`, `startForward`
   // from `sa`.) Without a fixed point after a bounded number of passes the
   // last values stand and the handler's event iteration goes on.
+  // Expects the steps computed from the current discrete values.
   void solve_mixed() {
     for (std::size_t pass = 0; pass < 2 * nd + 8; ++pass) {
       bool changed = fire_every_event(true);
@@ -556,7 +569,8 @@ private:
   std::vector<char> fired_;
   std::vector<char> init_fired_;  ///< clauses fired in the event at initialisation
   std::vector<double> sample_start_, sample_interval_;
-  double samples_done_ = std::numeric_limits<double>::quiet_NaN();  ///< the instant whose ticks were handled
+  std::vector<double> tick_done_;    ///< per sample: the index k of its last handled tick (NaN: none)
+  std::vector<double> tick_raised_;  ///< per sample: the tick raised at this instant (NaN: none)
   bool samples_raised_ = false;  ///< some sample() flag is 1 (an instant with ticks is being handled)
   double event_time_ = std::numeric_limits<double>::quiet_NaN();
   bool initialising_ = false;

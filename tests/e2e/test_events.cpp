@@ -1,6 +1,8 @@
 // Events from .mo files: when/reinit (bouncing ball), when/pre in a library
 // block (MoLib's Pulse driving a mass) and a stick-slip friction element with
 // a discrete mode, each against its piecewise analytic solution.
+#include <algorithm>
+
 #include "e2e/support.hpp"
 #include "mo/runtime/simulate.hpp"
 
@@ -191,5 +193,32 @@ TEST_CASE("an if-equation inside a when-clause assigns each of its variables (Wh
     INFO(r.message << " at t = " << stop);
     REQUIRE(r.ok());
     CHECK(discrete_value(*model, "b") == Approx(b));
+  }
+}
+
+TEST_CASE("a when-clause's new value reaches the equations of the same event iteration (ThyristorTimer)") {
+  // tests/e2e/data/ThyristorTimer.mo: conducting on [alpha/w, pi/w) of each
+  // period, i = v/(R + Ron); blocking, i = Goff v/(1 + R Goff). At the start
+  // of a half-wave fire reads the timer before its clause resets it: the
+  // thyristor used to latch on there, a sixth of a half-wave early.
+  const double f = 50, alpha = M_PI / 6, V = 100, R = 10, Ron = 1e-5, Goff = 1e-5, w = 2 * M_PI * f;
+  auto model = compiled_model("e2e_thyristor_timer", {{kData + "ThyristorTimer.mo", "", {}, true}, {}});
+  const auto grid = runtime::OutputGrid::uniform(0, 0.06, 240);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto i = column(r.trajectory, "i");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const double t = grid.times[k], v = V * std::sin(w * t);
+    const double phase = std::fmod(w * t, 2 * M_PI);
+    const bool on = phase > alpha && phase < M_PI;
+    INFO("t = " << t);
+    CHECK(i[k] == Approx(on ? v / (R + Ron) : Goff * v / (1 + R * Goff)).margin(1e-8));
+  }
+  // Fired at alpha of each period.
+  for (int period = 0; period < 3; ++period) {
+    const double fired = (alpha + 2 * M_PI * period) / w;
+    CHECK(std::any_of(r.event_times.begin(), r.event_times.end(),
+                      [&](double t) { return std::fabs(t - fired) < 1e-9; }));
   }
 }
