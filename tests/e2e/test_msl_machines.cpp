@@ -2,7 +2,8 @@
 // start of an induction machine settles at the nominal speed its example was
 // built for. The machine's model exercises multi-phase plugs (whose phase
 // count m is a connected parameter), arrays of components with switched-off
-// conditional heat ports, and Boolean constants passed on in modifiers.
+// conditional heat ports, and Boolean constants passed on in modifiers. Also
+// two of the PowerConverters examples (thyristor and diode bridges).
 #include <algorithm>
 #include <cmath>
 #include <numeric>
@@ -186,4 +187,26 @@ TEST_CASE("the MSL's SMEE_LoadDump holds its voltage with and without the load",
   // Switched at 2, 4, 6 and 8 s (and the arcs quench after 4 and 8 s).
   CHECK(std::count_if(r->event_times.begin(), r->event_times.end(),
                       [](double t) { return std::fabs(t - 2) < 1e-9 || std::fabs(t - 6) < 1e-9; }) == 2);
+}
+
+TEST_CASE("the MSL's PowerConverters bridges give their rectified mean and RMS voltages", "[msl]") {
+  const double Vrms = 110, alpha = M_PI / 6, R = 20;
+  {  // single-phase, fully controlled, resistive load: conducting from alpha to pi
+    const auto r = run_example("e2e_msl_thyristor_bridge", "ThyristorBridge2PulseR", 0.1, 500);
+    if (!r) return;
+    const double mean = std::sqrt(2) * Vrms / M_PI * (1 + std::cos(alpha));
+    const double rms = Vrms * std::sqrt(1 - alpha / M_PI + std::sin(2 * alpha) / (2 * M_PI));
+    for (std::size_t k : {200, 450, 499}) {  // after the first period, between ticks too
+      INFO("t = " << k * 0.0002);
+      CHECK(column(r->trajectory, "vMean")[k] == Approx(mean).epsilon(1e-5));
+      CHECK(column(r->trajectory, "vRms")[k] == Approx(rms).epsilon(1e-5));
+      CHECK(column(r->trajectory, "iMean")[k] == Approx(mean / R).epsilon(1e-5));
+    }
+  }
+  {  // three-phase diode bridge: 3 sqrt(6)/pi of the phase voltage
+    const auto r = run_example("e2e_msl_diode_bridge", "DiodeBridge2mPulse", 0.1, 500);
+    if (!r) return;
+    for (std::size_t k : {250, 499})
+      CHECK(column(r->trajectory, "vMean")[k] == Approx(3 * std::sqrt(6) / M_PI * Vrms).epsilon(1e-5));
+  }
 }

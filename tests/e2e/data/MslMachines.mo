@@ -85,3 +85,16 @@ model SmeeLoadDump
   output Real tau = smee.tauElectrical "air-gap torque";
   output Real ie = smee.ie "excitation current";
 end SmeeLoadDump;
+
+// Two of the MSL's PowerConverters examples: a single-phase thyristor bridge
+// fired at 30 degrees into a 20 Ohm load, and a three-phase diode bridge into
+// a resistor, each measured by the MSL's Mean and RootMeanSquare blocks
+// (sample() ticks one period after t0, a parameter the initial equations set).
+model ThyristorBridge2PulseR
+  extends Modelica.Electrical.PowerConverters.Examples.ACDC.RectifierBridge2Pulse.ThyristorBridge2Pulse_R;
+  output Real vMean = meanVoltage.y, vRms = rootMeanSquareVoltage.y, iMean = meanCurrent.y;
+end ThyristorBridge2PulseR;
+model DiodeBridge2mPulse
+  extends Modelica.Electrical.PowerConverters.Examples.ACDC.RectifierBridge2mPulse.DiodeBridge2mPulse;
+  output Real vMean = meanVoltage.y;
+end DiodeBridge2mPulse;
