@@ -267,7 +267,12 @@ public:
           response.states_reinit = true;
         }
         if (!changed) continue;
-        section_steps();  // what the clause assigned, read by the steps (a timer's entry time)
+        // The discrete equations outside when-clauses are solved with the
+        // steps of what the clause assigned (a timer's entry time read by
+        // `fire = time - entryTime > ...`). Without such equations the
+        // conditions keep the steps this call started from (as Scilab does:
+        // Coselica's friction modes in the Xcos corpus).
+        if (any_every_event()) section_steps();
         solve_mixed();
         conditions(cross_.data(), now_);
         again = true;
