@@ -73,8 +73,22 @@ void Flattener::connect(const ast::Equation &eq, const Scope &s) {
   if (side[0].size() != side[1].size())
     fail(DiagId::ConnectIncompatible, eq.range,
          fmt::format("connect() of {} connector(s) to {}", side[0].size(), side[1].size()));
+  for (const auto &named : side)
+    for (const Instance *i : named)
+      ++connect_count_[i];
   for (std::size_t i = 0; i < side[0].size(); ++i)
     connect_pair(side[0][i], outside[0], side[1][i], outside[1], eq.range);
+}
+
+bool Flattener::only_connections(const ast::Equation &eq) {
+  if (eq.kind == ast::EquationKind::Connect)
+    return true;
+  if (eq.kind != ast::EquationKind::For || eq.body.empty())
+    return false;
+  for (const auto &b : eq.body)
+    if (!only_connections(b))
+      return false;
+  return true;
 }
 
 void Flattener::connect_pair(Instance *a, bool a_out, Instance *b, bool b_out, SourceRange where) {

@@ -171,12 +171,28 @@ void Flattener::flatten_bindings() {
 
 void Flattener::flatten_equations(Instance &top) {
   flatten_bindings();
-  // Instances were recorded in creation order: parents before children.
-  // By index: a reference to an element of an expandable connector may
-  // instantiate it now (Flattener::present_member), appending instances.
+  // The connections first, so that cardinality() counts them all (those
+  // inside if-equations excepted). Instances were recorded in creation
+  // order: parents before children. By index: a reference to an element of
+  // an expandable connector may instantiate it now
+  // (Flattener::present_member), appending instances.
   for (std::size_t k = 0; k < all_instances_.size(); ++k) {
     Instance *inst = all_instances_[k];
     for (auto &[eq, cls] : inst->equations) {
+      if (!only_connections(*eq))
+        continue;
+      try {
+        equation(*eq, Scope{inst, cls, nullptr}, model_->equations);
+      } catch (Reported &) {
+      }
+    }
+  }
+  connections_counted_ = true;
+  for (std::size_t k = 0; k < all_instances_.size(); ++k) {
+    Instance *inst = all_instances_[k];
+    for (auto &[eq, cls] : inst->equations) {
+      if (only_connections(*eq))
+        continue;
       try {
         equation(*eq, Scope{inst, cls, nullptr}, model_->equations);
       } catch (Reported &) {

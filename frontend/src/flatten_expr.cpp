@@ -31,6 +31,19 @@ bool is_literal(const Expr &e) {
   return e.kind == ExprKind::Real || e.kind == ExprKind::Integer || e.kind == ExprKind::Boolean;
 }
 
+/// True if `e` is literals joined by operators (`1 == 1` once a loop index
+/// is substituted): no variable, parameter or call, so its value is fixed.
+bool of_literals(const Expr &e) {
+  if (is_literal(e))
+    return true;
+  if (e.kind != ExprKind::Unary && e.kind != ExprKind::Binary)
+    return false;
+  for (const auto &a : e.args)
+    if (!a || !of_literals(*a))
+      return false;
+  return true;
+}
+
 struct BuiltinInfo {
   const char *name;
   int min_args, max_args;
@@ -121,6 +134,23 @@ static void select(Flattener &f, Instance *a, const std::vector<ExprPtr> &subs, 
     }
     if (i == static_cast<std::size_t>(-1)) break;
   }
+}
+
+Tensor Flattener::cardinality(const ast::Expr &call, const Scope &s) {
+  if (call.args.size() != 1 || !call.named.empty() || call.args[0]->kind != ast::ExprKind::Ref)
+    fail(DiagId::WrongArgumentCount, call.range, "cardinality() takes one connector, cardinality(c)");
+  if (!connections_counted_)
+    fail(DiagId::Unsupported, call.range,
+         "cardinality() is supported in equations, not in bindings or declarations");
+  std::vector<int> dims;
+  std::vector<Instance *> found;
+  const ast::Expr &c = *call.args[0];
+  if (!resolve_instances(c.ref, s, c.range, dims, found))
+    fail(DiagId::UnknownComponent, c.range, "unknown connector '" + c.ref.str() + "' in cardinality()");
+  if (found.size() != 1 || !found[0]->is_connector)
+    fail(DiagId::BadSubscript, c.range, "cardinality() needs one scalar connector, '" + c.ref.str() + "' is not");
+  const auto it = connect_count_.find(found[0]);
+  return Tensor::scalar(literal(it == connect_count_.end() ? 0 : it->second, call.range, true));
 }
 
 bool Flattener::resolve_instances(const ast::ComponentRef &ref, const Scope &s, SourceRange where,
@@ -455,11 +485,15 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
   case ExprKind::Binary:
     return expr(e, s); // the operators' own frame
   case ExprKind::If: {
-    // Conditions that are literal after flattening (loop indices) select a branch.
+    // Conditions that are literal after flattening (loop indices) select a
+    // branch, and the others are not flattened: the MSL's StateGraph writes
+    // `if i == 1 then localActive else inPort[i-1].occupied` for i = 1.
     std::vector<ExprPtr> conds;
     std::vector<Tensor> branches;
     for (std::size_t i = 0; i + 1 < e.args.size(); i += 2) {
       ExprPtr c = scalar_expr(*e.args[i], s);
+      if (!is_literal(*c) && of_literals(*c))
+        c = literal(eval(*c, e.args[i]->range), e.args[i]->range);
       if (is_literal(*c)) {
         if (c->number != 0 && conds.empty())
           return expr(*e.args[i + 1], s);
@@ -611,6 +645,8 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
                   : std::move(x);
       return Tensor::scalar(acc ? std::move(acc) : literal(name == "sum" ? 0 : 1, e.range));
     }
+    if (name == "cardinality")
+      return cardinality(e, s);
     if (name == "size") {
       want_args(1, 2);
       // A function's local array has its size before it is assigned.

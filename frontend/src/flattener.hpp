@@ -418,6 +418,11 @@ public:
   void tuple_equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
   void equal_elements(const ast::Equation &eq, Tensor &l, Tensor &r, std::vector<ast::Equation> &out);
   void connect(const ast::Equation &eq, const Scope &s);
+  /// True if `eq` is a connect(), or a for-loop of nothing but connect()s
+  /// (flattened before the other equations, so that cardinality() sees them).
+  static bool only_connections(const ast::Equation &eq);
+  /// cardinality(c): how often connector c occurs in connect() (MLS 3.7.2.3).
+  Tensor cardinality(const ast::Expr &call, const Scope &s);
   /// Expandable connectors (MLS 9.1.3), before any equation is flattened:
   /// an element that a connect() names is made present (a declared one
   /// instantiated, an undeclared one created with the type of the other
@@ -442,6 +447,8 @@ public:
   std::unique_ptr<Instance> top_;
   std::vector<std::int8_t> param_state_; ///< 0 unevaluated, 1 evaluating, 2 done, 3 failed
   std::vector<Instance *> all_instances_;
+  std::unordered_map<const Instance *, int> connect_count_;  ///< per connector: its connect() occurrences
+  bool connections_counted_ = false;  ///< every connect() outside if-equations is flattened
 
   [[noreturn]] void fail(DiagId id, SourceRange r, const std::string &msg);
   /// Resolves a component reference to instances (a tensor of them when

@@ -7,6 +7,7 @@
 
 #include "dae_expr.hpp"
 #include "mo/symbolic/evaluator.hpp"
+#include "mo/symbolic/traversal.hpp"
 #include "mo/symbolic/substitute.hpp"
 
 namespace mo::symbolic::detail {
@@ -602,7 +603,8 @@ bool Builder::discrete_initial_assignment(const ast::Equation& eq) {
 /// this equation fixes, as `fixed = true` fixes it to v.start. For a discrete
 /// v it sets the value pre(v) (and v until the event at initialisation)
 /// starts from, like a start value:
-/// evaluated at the parameters' values and t = 0 (MathBoolean.OnDelay's
+/// evaluated at the parameters' values, t = 0 and the pre() values of other
+/// discrete variables known so far (MathBoolean.OnDelay's
 /// `pre(t_next) = time - 1`). A v that stays continuous has no
 /// pre() read anywhere (mark_event_equations), so there is nothing to fix and
 /// the equation is dropped. Returns false for other equations.
@@ -623,6 +625,15 @@ bool Builder::initial_pre(const ast::Equation& eq) {
   LeafValues at_t0 = param_values_;  // the event at initialisation runs at t = 0
   at_t0[dae_.time] = 0.0;
   const Expr e = conv_->convert(*value);
+  // pre(w) of another discrete variable: its value before initialisation,
+  // its start or what an earlier equation of this kind set (the MSL's
+  // StateGraph: `pre(newActive) = pre(localActive)`).
+  for (Expr leaf : leaves(dae_.arena, std::span(&e, 1))) {
+    if (dae_.arena.kind(leaf) != ExprKind::Pre) continue;
+    const Expr w = dae_.arena.operand(leaf, 0);
+    if (dae_.arena.kind(w) == ExprKind::Symbol && dae_.arena.symbol_info(w).role == SymbolRole::Discrete)
+      at_t0[leaf] = dae_.discrete[static_cast<std::size_t>(dae_.arena.symbol_info(w).index)].start;
+  }
   double x = 0.0;
   try {
     x = evaluate(dae_.arena, std::span(&e, 1), at_t0)[0];

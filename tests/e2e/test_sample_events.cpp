@@ -188,3 +188,16 @@ TEST_CASE("sample(): a tick that a state event meets within rounding is handled 
     CHECK(m[k] == Approx(200 / M_PI).margin(1e-6));
   }
 }
+
+TEST_CASE("initial equation pre(b) = pre(a) + 1 reads a's value before initialisation") {
+  auto model = compiled_model("e2e_initial_pre_chain", {{kData + "InitialPre.mo", "InitialPreChain", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  std::vector<double> x0(model->info().states.size());
+  model->initial_state(0.0, {}, p, x0);
+  CHECK(discrete_value(*model, "b") == 4.0);
+  const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1.0, 4), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  CHECK(discrete_value(*model, "a") == 4.0);
+  CHECK(discrete_value(*model, "b") == 8.0);
+}

@@ -1162,3 +1162,94 @@ TEST_CASE("an empty range subscript selects nothing", "[msl]") {
   REQUIRE(c.ok());
   CHECK(contains(c.model->print(), "y = 0. + `x[1]`;"));
 }
+
+TEST_CASE("cardinality() counts a connector's connect() occurrences, inside and outside", "[msl]") {
+  // MLS 3.7.2.3; the MSL's StateGraph decides with it whether a step's port
+  // is connected (`if cardinality(inPort[i]) == 0 then ...`).
+  Compiled c = compile_text(R"(
+    connector Pin
+      Real v;
+      flow Real i;
+    end Pin;
+    model Source
+      Pin p;
+      Real n;
+    equation
+      p.v = 1;
+      n = cardinality(p);
+    end Source;
+    model Load
+      Pin p;
+      Real n;
+    equation
+      p.i = p.v;
+      n = cardinality(p);
+    end Load;
+    model Pair "p connected inside to a.p"
+      Pin p;
+      Load a;
+      Real n;
+    equation
+      n = cardinality(p);
+      connect(p, a.p);
+    end Pair;
+    model Top
+      Source s;
+      Load l[3];
+      Pair q;
+      Source t;
+    equation
+      for k in 1:2 loop
+        connect(s.p, l[k].p);
+      end for;
+      connect(t.p, q.p);
+    end Top;)", "Top");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string flat = c.model->print();
+  INFO(flat);
+  CHECK(contains(flat, "`s.n` = 2;"));
+  CHECK(contains(flat, "`l[1].n` = 1;"));
+  CHECK(contains(flat, "`l[3].n` = 0;"));  // not connected
+  CHECK(contains(flat, "`q.n` = 2;"));     // once inside, once outside
+  CHECK(contains(flat, "`q.a.n` = 1;"));
+}
+
+TEST_CASE("cardinality() in a binding is refused with a diagnostic", "[msl]") {
+  Compiled c = compile_text(R"(
+    connector Pin
+      Real v;
+      flow Real i;
+    end Pin;
+    model M
+      Pin p;
+      parameter Integer n = cardinality(p);
+    equation
+      p.v = n;
+    end M;)", "M");
+  CHECK_FALSE(c.ok());
+  CHECK(contains(c.diagnostics, "cardinality() is supported in equations"));
+}
+
+TEST_CASE("an if-expression whose condition is literal flattens only the branch it takes", "[msl]") {
+  // The MSL's StateGraph: `inPort[i].occupied = if i == 1 then localActive
+  // else inPort[i-1].occupied or ...` in a for-loop; for i = 1 the other
+  // branch's inPort[0] is out of bounds and must not be flattened.
+  Compiled c = compile_text(R"(
+    model L
+      parameter Integer n = 2;
+      Real x[n](each start = 1, each fixed = true);
+      Real y[n];
+    equation
+      der(x) = -x;
+      for i in 1:n loop
+        y[i] = if i == 1 then x[1] else y[i - 1] + x[i];
+      end for;
+    end L;)", "L");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string flat = c.model->print();
+  INFO(flat);
+  CHECK(contains(flat, "`y[1]` = `x[1]`;"));
+  CHECK(contains(flat, "`y[2]` = `y[1]` + `x[2]`;"));
+}

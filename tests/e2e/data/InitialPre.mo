@@ -16,3 +16,18 @@ end InitialPre;
 model InitialPreOff
   extends InitialPre(y_start = false);
 end InitialPreOff;
+
+// pre(b) set from pre(a) (the MSL's StateGraph: `pre(newActive) =
+// pre(localActive)`): pre(a) is a's start, 3, so pre(b) = 4; at t = 0.5 the
+// clause gives a = 4 and b = 2*pre(b) = 8.
+model InitialPreChain
+  discrete Real a(start = 3, fixed = true);
+  discrete Real b;
+initial equation
+  pre(b) = pre(a) + 1;
+equation
+  when time > 0.5 then
+    a = pre(a) + 1;
+    b = 2*pre(b);
+  end when;
+end InitialPreChain;
