@@ -1,5 +1,6 @@
 #include "child_process.hpp"
 
+#include <dirent.h>
 #include <fcntl.h>
 #include <signal.h>
 #include <sys/stat.h>
@@ -9,6 +10,7 @@
 #include <chrono>
 #include <csignal>
 #include <iterator>
+#include <cstdio>
 #include <cstring>
 #include <optional>
 #include <thread>
@@ -88,6 +90,36 @@ std::vector<char*> pointers(std::vector<std::string>& strings) {
   ::_exit(127);
 }
 
+/// CPU time (clock ticks, user and system, with reaped children) of every
+/// process whose group is `group`, from /proc/PID/stat.
+long long group_cpu_ticks(pid_t group) {
+  long long total = 0;
+  DIR* dir = ::opendir("/proc");
+  if (!dir) return -1;
+  while (const dirent* entry = ::readdir(dir)) {
+    if (entry->d_name[0] < '0' || entry->d_name[0] > '9') continue;
+    const std::string path = std::string("/proc/") + entry->d_name + "/stat";
+    std::FILE* f = std::fopen(path.c_str(), "r");
+    if (!f) continue;  // the process has gone
+    char line[1024];
+    const bool read = std::fgets(line, sizeof line, f) != nullptr;
+    std::fclose(f);
+    const char* after = read ? std::strrchr(line, ')') : nullptr;  // the name may hold spaces
+    if (!after) continue;
+    // After the name: state ppid pgrp session tty tpgid flags minflt cminflt
+    // majflt cmajflt utime stime cutime cstime (fields 3 to 17).
+    char state = 0;
+    long long ppid = 0, pgrp = 0, skip = 0, utime = 0, stime = 0, cutime = 0, cstime = 0;
+    if (std::sscanf(after + 1, " %c %lld %lld %lld %lld %lld %lld %lld %lld %lld %lld %lld %lld %lld %lld", &state,
+                    &ppid, &pgrp, &skip, &skip, &skip, &skip, &skip, &skip, &skip, &skip, &utime, &stime, &cutime,
+                    &cstime) != 15)
+      continue;
+    if (pgrp == group) total += utime + stime + cutime + cstime;
+  }
+  ::closedir(dir);
+  return total;
+}
+
 bool exists(const std::string& path) {
   struct stat st {};
   return !path.empty() && ::stat(path.c_str(), &st) == 0;
@@ -128,6 +160,8 @@ ChildResult run_child(const ChildRun& run) {
   if (pid == 0) exec_child(argv.data(), envp.data(), run.log_file.c_str());
   ::setpgid(pid, pid);  // also from the parent, so that kill(-pid) works at once
   std::optional<Clock::time_point> done_at;
+  long long cpu = -1;  // the group's CPU ticks when last seen to change
+  auto cpu_changed = Clock::now(), cpu_checked = Clock::now();
   for (;;) {
     int status = 0;
     if (::waitpid(pid, &status, WNOHANG) == pid) {
@@ -152,6 +186,17 @@ ChildResult run_child(const ChildRun& run) {
       stop_group(pid);
       result.outcome = ChildOutcome::timed_out;
       break;
+    }
+    if (run.stall_seconds > 0 && !done_at && seconds_since(cpu_checked) >= 1.0) {
+      cpu_checked = Clock::now();
+      if (const long long now = group_cpu_ticks(pid); now != cpu) {
+        cpu = now;
+        cpu_changed = cpu_checked;
+      } else if (seconds_since(cpu_changed) > run.stall_seconds) {
+        stop_group(pid);
+        result.outcome = ChildOutcome::stalled;
+        break;
+      }
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(100));
   }

@@ -1,8 +1,9 @@
 // Running an external program (Scilab) with an argument vector, never a
 // shell command line: its own process group, standard input from /dev/null,
-// output to a log file, extra environment variables, a time limit, and an
-// early stop once the program has written a "done" file (Scilab can hang in
-// exit after finishing its work).
+// output to a log file, extra environment variables, a time limit, an early
+// stop once the program has written a "done" file (Scilab can hang in exit
+// after finishing its work), and one when its group stops using the CPU
+// (Scilab's Java can hang at start-up, waiting on a lock).
 #pragma once
 
 #include <string>
@@ -19,6 +20,9 @@ struct ChildRun {
   std::string done_file;          ///< when it exists, the child is done: stop it after `grace_seconds`
   double timeout_seconds = 600.0; ///< then the whole process group is killed
   double grace_seconds = 5.0;
+  /// If > 0: when no process of the group has used CPU time for this long
+  /// (and no done file exists), the group is killed as stalled. Linux /proc.
+  double stall_seconds = 0.0;
 };
 
 /// How the child ended.
@@ -26,6 +30,7 @@ enum class ChildOutcome {
   exited,        ///< it exited by itself (status in `exit_status`, -1 when killed by a signal)
   stopped_done,  ///< it wrote the done file and was stopped after the grace time
   timed_out,     ///< the time limit passed; it was killed
+  stalled,       ///< its group used no CPU for `stall_seconds`; it was killed
   interrupted,   ///< this process got SIGINT, SIGTERM or SIGHUP; the child was killed
   not_started,   ///< fork or exec failed (`exit_status` 127)
 };

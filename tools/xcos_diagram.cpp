@@ -24,6 +24,9 @@ extern const char* const xcos_script_text;  // xcos_script.sce, embedded by CMak
 
 namespace {
 
+/// Seconds without CPU use after which Scilab counts as hung (run_child).
+constexpr double kScilabStallSeconds = 120.0;
+
 std::string lower(std::string s) {
   std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
   return s;
@@ -173,6 +176,10 @@ void check_outcome(const std::string& diagram, const fs::path& work, const Child
       fail(diagram, fmt::format("Scilab did not finish compiling the diagram within {:g} s and was stopped "
                                 "(raise the limit with --scilab-timeout SECONDS); its output ends with:\n{}",
                                 options.timeout_seconds, log_tail(log, 12)));
+    if (run.outcome == ChildOutcome::stalled)
+      fail(diagram, fmt::format("Scilab used no CPU for {:g} s, twice, and was stopped (a hang, often of its "
+                                "Java at start-up); its output ends with:\n{}",
+                                kScilabStallSeconds, log_tail(log, 12)));
     if (run.outcome == ChildOutcome::not_started)
       fail(diagram, "cannot run Scilab:\n" + log_tail(log, 12));
     fail(diagram, "Scilab stopped before compiling the diagram; its output ends with:\n" + log_tail(log, 12));
@@ -249,11 +256,22 @@ std::unique_ptr<ExtractedDiagram> extract_flat_model(const std::string& diagram,
   run.log_file = (work.path() / "scilab.log").string();
   run.done_file = (work.path() / "done").string();
   run.timeout_seconds = options.timeout_seconds;
+  // Scilab's Java can hang at start-up waiting on a lock (seen on Debian 12
+  // about once in 30 runs under load): no CPU used for this long is a hang.
+  // (Under a shorter --scilab-timeout, the time limit alone.)
+  run.stall_seconds = options.timeout_seconds > kScilabStallSeconds ? kScilabStallSeconds : 0.0;
   ChildResult result = run_child(run);
   // xvfb-run -a picks a free display number racily: when several start at
-  // once one of them may find its display taken. Start again (twice at most).
+  // once one of them may find its display taken. Start again (twice at most),
+  // and once after a hang.
   for (int retry = 0; retry < 2 && !fs::exists(work.path() / "status.txt") && xvfb_failed(run.log_file); ++retry)
     result = run_child(run);
+  if (result.outcome == ChildOutcome::stalled) {
+    if (!options.quiet)
+      std::cerr << options.tool << ": Scilab used no CPU for " << run.stall_seconds
+                << " s (hung at start-up?); starting it again\n";
+    result = run_child(run);
+  }
   check_outcome(diagram, work.path(), result, options);
   fs::path blocks = work.path() / "out" / "blocks.txt";
   if (!fs::exists(blocks)) blocks.clear();

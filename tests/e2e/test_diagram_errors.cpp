@@ -10,6 +10,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "child_process.hpp"
 #include "e2e/diagram_cli.hpp"
 
 using namespace mo::e2e;
@@ -189,4 +190,23 @@ TEST_CASE("diagram init file: malformed XML or a DTD is an error with its line",
   CHECK(dtd.status == 1);
   CHECK(dtd.err.find("FixedLag_imf_init.xml:2: error: a document type declaration (DTD) is not expected") !=
         std::string::npos);
+}
+
+TEST_CASE("run_child stops a program that uses no CPU, not one that computes", "[diagram]") {
+  // Scilab's Java can hang at start-up waiting on a lock: its process group
+  // then uses no CPU, which run_child watches (stall_seconds).
+  mo::tools::ChildRun idle;
+  idle.argv = {"/bin/sleep", "30"};
+  idle.log_file = "/dev/null";
+  idle.timeout_seconds = 20;
+  idle.stall_seconds = 1.5;
+  const auto stalled = mo::tools::run_child(idle);
+  CHECK(stalled.outcome == mo::tools::ChildOutcome::stalled);
+  CHECK(stalled.seconds < 10);
+  mo::tools::ChildRun busy;
+  busy.argv = {"/bin/sh", "-c", "while :; do :; done"};
+  busy.log_file = "/dev/null";
+  busy.timeout_seconds = 4;
+  busy.stall_seconds = 1.5;
+  CHECK(mo::tools::run_child(busy).outcome == mo::tools::ChildOutcome::timed_out);
 }
