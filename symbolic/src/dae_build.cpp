@@ -165,7 +165,10 @@ public:
     conv_->on_initial([this] { return initial_flag(); });
     conv_->on_sample([this](const ast::Expr& c) {
       std::unordered_set<Expr, ExprHash> computed;  // computed_parameters(): constant after the start
-      for (int i : computed_) computed.insert(dae_.vars[static_cast<std::size_t>(slots_[static_cast<std::size_t>(i)].var)].symbol);
+      for (int i : computed_) {
+        const int var = slots_[static_cast<std::size_t>(i)].var;
+        computed.insert(dae_.vars[static_cast<std::size_t>(var)].symbol);
+      }
       return sample_flag(dae_, *conv_, c, param_values_, computed);
     });
   }
