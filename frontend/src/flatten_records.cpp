@@ -8,6 +8,7 @@
 
 #include <fmt/format.h>
 #include <functional>
+#include <tuple>
 
 namespace mo::frontend::detail {
 
@@ -49,6 +50,28 @@ bool is_record_class(const ClassNode *cls) {
 
 bool is_record_instance(const Instance &inst) { return inst.var < 0 && inst.dims.empty() && is_record_class(inst.cls); }
 
+/// The MSL's `record M330_50A extends BaseData(tabris = [...])`: the
+/// extends modifier is M330_50A's default for tabris (and sizes its `[:, :]`).
+std::pair<const ast::Expr *, ClassNode *> Flattener::field_binding(ClassNode *cls, ClassNode *owner,
+                                                                   const ast::Component &c) {
+  using Found = std::pair<const ast::Expr *, ClassNode *>;
+  std::function<Found(ClassNode *, unsigned)> search = [&](ClassNode *k, unsigned depth) -> Found {
+    if (!k || k == owner || depth > 32)
+      return {nullptr, nullptr};
+    for (auto &[ext, base] : bases(k)) {
+      for (const ast::ElementMod &em : ext->mod.args)
+        if (!em.redeclare && em.path.size() == 1 && em.path[0] == c.name && em.mod.binding)
+          return {em.mod.binding.get(), k};
+      if (Found found = search(base, depth + 1); found.first)
+        return found;
+    }
+    return {nullptr, nullptr};
+  };
+  if (Found found = search(cls, 0); found.first)
+    return found;
+  return {c.mod.binding.get(), c.mod.binding ? owner : nullptr};
+}
+
 std::shared_ptr<const RecordLayout> Flattener::record_layout(ClassNode *cls, SourceRange where) {
   if (auto it = record_layouts_.find(cls); it != record_layouts_.end()) {
     if (!it->second)
@@ -80,10 +103,19 @@ std::shared_ptr<const RecordLayout> Flattener::record_layout(ClassNode *cls, Sou
       f.decl = &c;
       f.owner = owner;
       Scope in_class{nullptr, owner, nullptr};
-      for (const auto &d : c.dims) {
-        if (d->kind == ExprKind::Colon)
-          fail(DiagId::Unsupported, c.range,
-               "record field '" + c.name + "' of '" + cls->path() + "' is an array of unknown size");
+      std::tie(f.binding, f.binding_scope) = field_binding(cls, owner, c);
+      std::optional<Tensor> bound;  // the default's value, which sizes `[:]` dimensions
+      for (std::size_t k = 0; k < c.dims.size(); ++k) {
+        const auto &d = c.dims[k];
+        if (d->kind == ExprKind::Colon) {
+          if (!bound && f.binding)
+            bound = expr(*f.binding, Scope{nullptr, f.binding_scope, nullptr});
+          if (!bound || bound->dims.size() != c.dims.size())
+            fail(DiagId::Unsupported, c.range,
+                 "record field '" + c.name + "' of '" + cls->path() + "' is an array of unknown size");
+          f.dims.push_back(bound->dims[k]);
+          continue;
+        }
         f.dims.push_back(static_cast<int>(eval_int(*d, in_class)));
       }
       f.dims.insert(f.dims.end(), rt.dims.begin(), rt.dims.end());
@@ -221,10 +253,10 @@ Tensor build_record(Flattener &f, const std::shared_ptr<const RecordLayout> &lay
     Tensor v;
     if (given[i]) {
       v = f.expr(*given[i], caller);
-    } else if (fd.decl->mod.binding && !(missing_ok && reads_unset(*fd.decl->mod.binding, fields))) {
-      Scope own{nullptr, fd.owner, nullptr};
+    } else if (fd.binding && !(missing_ok && reads_unset(*fd.binding, fields))) {
+      Scope own{nullptr, fd.binding_scope, nullptr};
       own.locals = &fields;
-      v = f.expr(*fd.decl->mod.binding, own);
+      v = f.expr(*fd.binding, own);
     } else if (fd.record) {
       v = f.record_defaults(fd.record, fd.dims, where);
     } else if (missing_ok) {

@@ -134,8 +134,12 @@ struct RecordLayout {
     std::shared_ptr<const RecordLayout> record; ///< null: a Real/Integer/Boolean field
     std::size_t offset = 0;                     ///< first scalar of the field
     std::size_t size = 0;                       ///< scalars of the field
-    const ast::Component *decl = nullptr;       ///< its declaration (binding: the default)
+    const ast::Component *decl = nullptr;       ///< its declaration
     ClassNode *owner = nullptr;                 ///< the class that declares it
+    /// The default: the record class's extends modifier of the field (the most
+    /// derived), else the declaration's binding; null without one.
+    const ast::Expr *binding = nullptr;
+    ClassNode *binding_scope = nullptr;         ///< the class the binding is read in
   };
   ClassNode *cls = nullptr;
   std::vector<Field> fields;
@@ -228,6 +232,10 @@ public:
   /// The bases of `cls` (its `extends`), resolved; reports unknown bases
   /// unless `report` is false (a search that only probes enclosing classes).
   std::vector<std::pair<const ast::Extends *, ClassNode *>> bases(ClassNode *cls, bool report = true);
+  /// The default record class `cls` gives its field `c` (declared in
+  /// `owner`), and the class it is read in: an extends modifier on the way
+  /// from cls to owner (the most derived first), else c's own binding.
+  std::pair<const ast::Expr *, ClassNode *> field_binding(ClassNode *cls, ClassNode *owner, const ast::Component &c);
 
   // -- instances (flatten_instance.cpp)
   void instantiate_class(Instance &inst, ClassNode *cls, const Modifier &mod, unsigned depth);

@@ -121,3 +121,44 @@ end M;
   REQUIRE(ok.ok());
   CHECK(ok.model->print().find("r = 3 + 2;") != std::string::npos);
 }
+
+TEST_CASE("a record constructor takes its defaults from the record's extends modifiers", "[records]") {
+  // The MSL's hysteresis tables: `record M330_50A extends BaseData(tabris =
+  // [...])`, tabris declared [:, :] with another default in BaseData.
+  Compiled c = compile_text(R"(
+    record Base
+      parameter Real a = 1;
+      parameter Real t[:, :] = [1, 2];
+    end Base;
+    record Derived
+      extends Base(a = 5, t = [1, 2; 3, 4; 5, 6]);
+    end Derived;
+    record Scaled
+      extends Base(a = 7);
+    end Scaled;
+    function total
+      input Derived r;
+      output Real y;
+    algorithm
+      y := r.a + sum(r.t);
+    end total;
+    function first
+      input Scaled r;
+      output Real y;
+    algorithm
+      y := r.a + r.t[1, 2];
+    end first;
+    model R
+      parameter Real s = total(Derived());
+      parameter Real f = first(Scaled());
+      Real x(start = 0, fixed = true);
+    equation
+      der(x) = s + f;
+    end R;)", "R");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string flat = c.model->print();
+  INFO(flat);
+  CHECK(flat.find("parameter Real s = 5 + (1 + 2 + 3 + 4 + 5 + 6);") != std::string::npos);
+  CHECK(flat.find("parameter Real f = 7 + 2;") != std::string::npos);
+}
