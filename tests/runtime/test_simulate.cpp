@@ -145,31 +145,16 @@ TEST_CASE("Bouncing ball: event times and reinit match the analytic solution", "
 
 namespace {
 
-// x' = d; a time event every 0.5 s toggles d between 1 and 0 (d starts at 1).
-// The handler's event iteration is exercised by a second discrete variable
-// that follows d one iteration later.
-class Toggle final : public Model {
+/// A model with one state x named `name`, no input, parameter or output, and
+/// an ODE that does not depend on x (empty Jacobians): the frame of the event
+/// tests' own models below.
+class OneStateModel : public Model {
 public:
-  Toggle() {
-    info_.name = "Toggle";
+  explicit OneStateModel(const char* name) {
+    info_.name = name;
     info_.states = {state("x", "")};
-    info_.discrete = {{"d", "", ""}, {"d_copy", "", ""}};
-    sp_f_ = Sparsity::empty(1, 1);
-    sp_u_ = Sparsity::empty(1, 0);
-    sp_p_ = Sparsity::empty(1, 0);
-    sp_h_ = Sparsity::empty(0, 1);
-    sp_hu_ = Sparsity::empty(0, 0);
   }
   const ModelInfo& info() const override { return info_; }
-  std::unique_ptr<Model> clone() const override { return std::make_unique<Toggle>(*this); }
-  void initial_state(double, std::span<const double>, std::span<const double>, std::span<double> x0) override {
-    x0[0] = 0.0;
-    d_ = {1.0, 1.0};
-  }
-  void rhs(double, std::span<const double>, std::span<const double>, std::span<const double>,
-           std::span<double> xdot) override {
-    xdot[0] = d_[0];
-  }
   void outputs(double, std::span<const double>, std::span<const double>,
                std::span<const double>, std::span<double>) override {}
   const Sparsity& jacobian_sparsity(Jacobian block) const override {
@@ -186,6 +171,32 @@ public:
   }
   void jacobian_values(Jacobian, double, std::span<const double>, std::span<const double>,
                        std::span<const double>, std::span<double>) override {}
+
+protected:
+  ModelInfo info_;
+
+private:
+  Sparsity sp_f_ = Sparsity::empty(1, 1), sp_u_ = Sparsity::empty(1, 0), sp_p_ = Sparsity::empty(1, 0);
+  Sparsity sp_h_ = Sparsity::empty(0, 1), sp_hu_ = Sparsity::empty(0, 0);
+};
+
+// x' = d; a time event every 0.5 s toggles d between 1 and 0 (d starts at 1).
+// The handler's event iteration is exercised by a second discrete variable
+// that follows d one iteration later.
+class Toggle final : public OneStateModel {
+public:
+  Toggle() : OneStateModel("Toggle") {
+    info_.discrete = {{"d", "", ""}, {"d_copy", "", ""}};
+  }
+  std::unique_ptr<Model> clone() const override { return std::make_unique<Toggle>(*this); }
+  void initial_state(double, std::span<const double>, std::span<const double>, std::span<double> x0) override {
+    x0[0] = 0.0;
+    d_ = {1.0, 1.0};
+  }
+  void rhs(double, std::span<const double>, std::span<const double>, std::span<const double>,
+           std::span<double> xdot) override {
+    xdot[0] = d_[0];
+  }
   double next_time_event(double t) const override { return 0.5 * (std::floor(t / 0.5) + 1.0); }
   EventResponse handle_event(const EventCause& cause, std::span<double>, std::span<const double>,
                              std::span<const double>) override {
@@ -199,9 +210,7 @@ public:
   int handler_calls = 0;
 
 private:
-  ModelInfo info_;
   std::array<double, 2> d_{1.0, 1.0};
-  Sparsity sp_f_, sp_u_, sp_p_, sp_h_, sp_hu_;
 };
 
 }  // namespace
@@ -226,20 +235,12 @@ namespace {
 /// on, one call gives (0, 1e-30), the next (1e-30, 0), and so on. CVODES
 /// then finds at its root that one is 0 and the other becomes 0 just after:
 /// a new root at the same time. Nothing is discrete.
-class NoisyZero final : public Model {
+class NoisyZero final : public OneStateModel {
 public:
-  NoisyZero() {
-    info_.name = "NoisyZero";
-    info_.states = {state("x", "")};
+  NoisyZero() : OneStateModel("NoisyZero") {
     info_.num_event_indicators = 2;
     info_.indicator_in_rhs = {false, false};
-    sp_f_ = Sparsity::empty(1, 1);
-    sp_u_ = Sparsity::empty(1, 0);
-    sp_p_ = Sparsity::empty(1, 0);
-    sp_h_ = Sparsity::empty(0, 1);
-    sp_hu_ = Sparsity::empty(0, 0);
   }
-  const ModelInfo& info() const override { return info_; }
   std::unique_ptr<Model> clone() const override { return std::make_unique<NoisyZero>(*this); }
   void initial_state(double, std::span<const double>, std::span<const double>, std::span<double> x0) override {
     x0[0] = 0.0;
@@ -248,22 +249,6 @@ public:
            std::span<double> xdot) override {
     xdot[0] = 1.0;
   }
-  void outputs(double, std::span<const double>, std::span<const double>,
-               std::span<const double>, std::span<double>) override {}
-  const Sparsity& jacobian_sparsity(Jacobian block) const override {
-    switch (block) {
-    case Jacobian::f_x: return sp_f_;
-    case Jacobian::f_u: return sp_u_;
-    case Jacobian::f_p:
-    case Jacobian::x0_p: return sp_p_;
-    case Jacobian::h_x: return sp_h_;
-    case Jacobian::h_u:
-    case Jacobian::h_p: return sp_hu_;
-    }
-    return sp_f_;
-  }
-  void jacobian_values(Jacobian, double, std::span<const double>, std::span<const double>,
-                       std::span<const double>, std::span<double>) override {}
   void event_indicators(double t, std::span<const double>, std::span<const double>,
                         std::span<const double>, std::span<double> g) override {
     const bool even = calls_++ % 2 == 0;
@@ -277,9 +262,7 @@ public:
   std::span<double> discrete() override { return {}; }
 
 private:
-  ModelInfo info_;
   std::size_t calls_ = 0;
-  Sparsity sp_f_, sp_u_, sp_p_, sp_h_, sp_hu_;
 };
 
 }  // namespace
