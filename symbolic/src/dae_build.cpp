@@ -462,6 +462,9 @@ private:
   void initial_equations();
   bool discrete_initial_assignment(const ast::Equation& eq);
   bool initial_pre(const ast::Equation& eq);
+  bool initial_through_pre(const ast::Equation& eq);
+  const ast::Expr* pre_definition(int v) const;
+  void solve_pre_values();
   void if_equation(const ast::Equation& eq);
   std::optional<std::vector<Expr>> if_residuals(const ast::Equation& eq);
   void when_equation(const ast::Equation& eq);
@@ -481,6 +484,7 @@ private:
   std::unordered_map<const ast::Equation*, bool> event_equations_;
   std::unordered_set<int> in_progress_;
   std::vector<int> computed_;  ///< Real parameters declared fixed = false
+  std::vector<PreEquation> pre_eqs_;  ///< initial equations on pre() values
   std::optional<ExprConverter> conv_;
   LeafValues param_values_;  ///< default value of every parameter symbol
   std::unordered_map<Expr, VariableInfo*, ExprHash> info_of_;  ///< parameter/input/discrete info
@@ -558,7 +562,7 @@ void Builder::initial_equations() {
                       "equation is ignored and the parameter keeps its value");
         continue;
       }
-      if (initial_pre(eq) || discrete_initial_assignment(eq)) continue;
+      if (initial_pre(eq) || initial_through_pre(eq) || discrete_initial_assignment(eq)) continue;
       DaeEq e;
       e.residual = dae_.arena.sub(conv_->convert(*eq.lhs), conv_->convert(*eq.rhs));
       e.range = eq.range;
@@ -577,6 +581,7 @@ void Builder::initial_equations() {
     error(DiagId::UnsupportedInLowering, eq.range,
           "only simple equations (lhs = rhs) are supported in an initial equation section");
   }
+  solve_pre_values();
 }
 
 /// `d = expr` (or `expr = d`) of a discrete variable d in an initial section
@@ -605,10 +610,10 @@ bool Builder::discrete_initial_assignment(const ast::Equation& eq) {
 /// before the event at initialisation, an unknown of the initial system that
 /// this equation fixes, as `fixed = true` fixes it to v.start. For a discrete
 /// v it sets the value pre(v) (and v until the event at initialisation)
-/// starts from, like a start value:
-/// evaluated at the parameters' values, t = 0 and the pre() values of other
-/// discrete variables known so far (MathBoolean.OnDelay's
-/// `pre(t_next) = time - 1`). A v that stays continuous has no
+/// starts from, like a start value, solved with the other equations on
+/// pre() values after the section (solve_pre_values; MathBoolean.OnDelay's
+/// `pre(t_next) = time - 1`, StateGraph's `pre(newActive) =
+/// pre(localActive)`). A v that stays continuous has no
 /// pre() read anywhere (mark_event_equations), so there is nothing to fix and
 /// the equation is dropped. Returns false for other equations.
 bool Builder::initial_pre(const ast::Equation& eq) {
@@ -625,28 +630,86 @@ bool Builder::initial_pre(const ast::Equation& eq) {
   if (!d.valid())
     return v.type == flat::BaseType::Boolean || v.type == flat::BaseType::Integer ||
            v.variability == ast::Variability::Discrete;
-  LeafValues at_t0 = param_values_;  // the event at initialisation runs at t = 0
-  at_t0[dae_.time] = 0.0;
-  const Expr e = conv_->convert(*value);
-  // pre(w) of another discrete variable: its value before initialisation,
-  // its start or what an earlier equation of this kind set (the MSL's
-  // StateGraph: `pre(newActive) = pre(localActive)`).
-  for (Expr leaf : leaves(dae_.arena, std::span(&e, 1))) {
-    if (dae_.arena.kind(leaf) != ExprKind::Pre) continue;
-    const Expr w = dae_.arena.operand(leaf, 0);
-    if (dae_.arena.kind(w) == ExprKind::Symbol && dae_.arena.symbol_info(w).role == SymbolRole::Discrete)
-      at_t0[leaf] = dae_.discrete[static_cast<std::size_t>(dae_.arena.symbol_info(w).index)].start;
-  }
-  double x = 0.0;
-  try {
-    x = evaluate(dae_.arena, std::span(&e, 1), at_t0)[0];
-  } catch (const std::invalid_argument&) {
-    error(DiagId::UnsupportedInLowering, eq.range,
-          "pre(" + v.name + ") in an initial equation must equal an expression of parameters and time");
+  pre_eqs_.push_back({conv_->convert(*call), conv_->convert(*value), eq.range});
+  return true;
+}
+
+/// `v = expr` (or `expr = v`) in an initial section, v Boolean, Integer or
+/// discrete, not assigned by a when-clause, and equal (through equations
+/// `a = b` between variables) to a variable whose every-event equation reads
+/// only pre() values, parameters and time: the equation fixes those pre()
+/// values (InitialStep of the MSL's StateGraph: `active = true` with `active =
+/// localActive` and `localActive = pre(newActive)`). Returns false for other
+/// equations.
+bool Builder::initial_through_pre(const ast::Equation& eq) {
+  for (const bool left : {true, false}) {
+    const ast::Expr& side = left ? *eq.lhs : *eq.rhs;
+    if (side.kind != ast::ExprKind::Ref || side.var < 0) continue;
+    const ast::Expr* def = pre_definition(side.var);
+    if (!def) continue;
+    const Expr defined = conv_->convert(*def);
+    bool pre_only = true;
+    for (const Expr leaf : leaves(dae_.arena, std::span(&defined, 1))) {
+      const ExprKind k = dae_.arena.kind(leaf);
+      if (k == ExprKind::Constant || k == ExprKind::Pre || leaf == dae_.time) continue;
+      if (k != ExprKind::Symbol || !param_values_.contains(leaf)) pre_only = false;
+    }
+    if (!pre_only) continue;
+    pre_eqs_.push_back({defined, conv_->convert(left ? *eq.rhs : *eq.lhs), eq.range});
     return true;
   }
-  dae_.discrete[static_cast<std::size_t>(dae_.arena.symbol_info(d).index)].start = x;
-  return true;
+  return false;
+}
+
+/// The right side of the every-event equation of `v` or of a variable equal
+/// to it through equations `a = b` between variables, if exactly one of them
+/// has one; null otherwise (or if a when-clause assigns one of them).
+const ast::Expr* Builder::pre_definition(int v) const {
+  const flat::Variable& var = fv(v);
+  if (var.type != flat::BaseType::Boolean && var.type != flat::BaseType::Integer &&
+      var.variability != ast::Variability::Discrete)
+    return nullptr;
+  std::unordered_map<int, std::vector<int>> equal;
+  for (const ast::Equation& eq : f_.equations)
+    if (eq.kind == ast::EquationKind::Simple && eq.lhs->kind == ast::ExprKind::Ref && eq.lhs->var >= 0 &&
+        eq.rhs->kind == ast::ExprKind::Ref && eq.rhs->var >= 0) {
+      equal[eq.lhs->var].push_back(eq.rhs->var);
+      equal[eq.rhs->var].push_back(eq.lhs->var);
+    }
+  std::unordered_map<int, const ast::Expr*> defines;  // variable → its every-event right side
+  for (const auto& [eq, target_left] : event_equations_)
+    defines[(target_left ? eq->lhs : eq->rhs)->var] = (target_left ? eq->rhs : eq->lhs).get();
+  std::unordered_set<int> seen{v};
+  std::vector<int> work{v};
+  const ast::Expr* found = nullptr;
+  while (!work.empty()) {
+    const int u = work.back();
+    work.pop_back();
+    if (discrete_.contains(u) && !defines.contains(u)) return nullptr;  // a when-clause's
+    if (const auto it = defines.find(u); it != defines.end()) {
+      if (found) return nullptr;
+      found = it->second;
+    }
+    for (const int w : equal[u])
+      if (seen.insert(w).second) work.push_back(w);
+  }
+  return found;
+}
+
+/// The pre() values that the initial equations fix (solve_initial_pre).
+void Builder::solve_pre_values() {
+  if (pre_eqs_.empty()) return;
+  LeafValues at_t0 = param_values_;  // the event at initialisation runs at t = 0
+  at_t0[dae_.time] = 0.0;
+  std::vector<bool> boolean(dae_.discrete.size(), false);
+  for (std::size_t i = 0; i < f_.variables.size(); ++i) {
+    const Slot& s = slots_[i];
+    if (s.kind == Slot::Value && dae_.arena.kind(s.value) == ExprKind::Symbol &&
+        dae_.arena.symbol_info(s.value).role == SymbolRole::Discrete &&
+        f_.variables[i].type == flat::BaseType::Boolean)
+      boolean[static_cast<std::size_t>(dae_.arena.symbol_info(s.value).index)] = true;
+  }
+  if (!solve_initial_pre(dae_, pre_eqs_, at_t0, boolean, diags_)) ok_ = false;
 }
 
 void Builder::if_equation(const ast::Equation& eq) {

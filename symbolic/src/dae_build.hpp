@@ -8,6 +8,7 @@
 #include <unordered_set>
 
 #include "dae.hpp"
+#include "mo/symbolic/evaluator.hpp"
 #include "mo/frontend/diagnostics.hpp"
 #include "mo/frontend/flat.hpp"
 
@@ -17,6 +18,26 @@ namespace mo::symbolic::detail {
 std::optional<Dae> build_dae(const frontend::flat::Model& flat, frontend::DiagnosticEngine& diags);
 
 class ExprConverter;
+
+/// An initial equation on pre() values, `lhs = rhs`: `pre(v) = expr`, or
+/// `v = expr` for a v that equals an expression of pre() values (InitialStep
+/// of the MSL's StateGraph: `active = true` with `active = pre(newActive)`).
+struct PreEquation {
+  Expr lhs, rhs;
+  frontend::SourceRange range;
+};
+
+/// Modelica 3 §8.6: the pre() values of discrete variables are unknowns of
+/// the initial system. Solves `eqs` for those they read, in any order: an
+/// equation left with one open value is solved for it (a side that is that
+/// value; a Boolean that one of false and true satisfies); when none is, the
+/// first one with a side that is an open value defines it and the others it
+/// reads keep their start values. Sets dae.discrete[i].start to each solved
+/// value. `at_t0` holds the parameters' values and time = t0; `boolean[i]`
+/// says whether dae.discrete[i] is a Boolean. False after a diagnostic (a
+/// contradiction, or a value that does not follow).
+bool solve_initial_pre(Dae& dae, const std::vector<PreEquation>& eqs, const LeafValues& at_t0,
+                       const std::vector<bool>& boolean, frontend::DiagnosticEngine& diags);
 
 /// The discrete flag of `call`, a flat `sample(start, interval)`: one per
 /// distinct (start, interval), added to dae.discrete and dae.samples on first

@@ -201,3 +201,34 @@ TEST_CASE("initial equation pre(b) = pre(a) + 1 reads a's value before initialis
   CHECK(discrete_value(*model, "a") == 4.0);
   CHECK(discrete_value(*model, "b") == 8.0);
 }
+
+TEST_CASE("an initial equation on a variable that equals pre() values fixes those (StateGraph's InitialStep)") {
+  auto model = compiled_model("e2e_initial_step_chain", {{kData + "InitialPre.mo", "InitialStepChain", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  std::vector<double> x0(model->info().states.size());
+  model->initial_state(0.0, {}, p, x0);
+  // active (an alias of localActive) = true; idle = not pre(busy) = false.
+  CHECK(discrete_value(*model, "localActive") == 1.0);
+  CHECK(discrete_value(*model, "oldActive") == 1.0);
+  CHECK(discrete_value(*model, "busy") == 1.0);
+  CHECK(discrete_value(*model, "idle") == 0.0);
+  const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1.0, 4), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  CHECK(discrete_value(*model, "localActive") == 0.0);  // go at t = 0.5
+  CHECK(discrete_value(*model, "oldActive") == 1.0);
+  CHECK(discrete_value(*model, "busy") == 0.0);
+  CHECK(discrete_value(*model, "idle") == 1.0);
+}
+
+TEST_CASE("initial equations that contradict each other on pre() values are reported") {
+  frontend::SourceManager sources;
+  frontend::DiagnosticEngine diags(sources);
+  auto flat = tools::load_flat_model({kData + "InitialPre.mo", "InitialPreContradiction", {}, true}, sources, diags);
+  REQUIRE(flat);
+  CHECK_FALSE(tools::lower_model(*flat, diags));
+  std::ostringstream printed;
+  diags.print(printed);
+  CHECK(printed.str().find("InitialPre.mo:73:3: error: this initial equation contradicts the others on pre() "
+                           "values: its sides evaluate to 1 and 0") != std::string::npos);
+}

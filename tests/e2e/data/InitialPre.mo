@@ -31,3 +31,47 @@ equation
     b = 2*pre(b);
   end when;
 end InitialPreChain;
+
+// An initial equation on a variable that equals pre() values (the MSL's
+// StateGraph.InitialStep: `active = true` with `active = localActive` and
+// `localActive = pre(newActive)`) fixes those pre() values, whatever the
+// order of the equations: pre(newActive) = true, then pre(localActive) and
+// pre(oldActive) through `pre(newActive) = pre(localActive)`. Likewise
+// `idle = false` with `idle = not pre(busy)` gives pre(busy) = true.
+// Active until go at t = 0.5; oldActive keeps true from there.
+model InitialStepChain
+  Boolean active;
+  Boolean localActive;
+  Boolean newActive;
+  Boolean oldActive;
+  Boolean idle;
+  Boolean busy;
+  Boolean go = time > 0.5;
+initial equation
+  pre(newActive) = pre(localActive);
+  pre(oldActive) = pre(localActive);
+  active = true;
+  idle = false;
+equation
+  active = localActive;
+  localActive = pre(newActive);
+  newActive = localActive and not go;
+  when go then
+    oldActive = localActive;
+  end when;
+  idle = not pre(busy);
+  busy = pre(busy) and not go;
+end InitialStepChain;
+
+// Contradicting initial equations on pre() values: a diagnostic, not a run.
+model InitialPreContradiction
+  Boolean a;
+  Boolean b;
+initial equation
+  pre(a) = true;
+  pre(b) = pre(a);
+  b = false;
+equation
+  a = pre(a);
+  b = pre(b);
+end InitialPreContradiction;
