@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "mo/codegen/cpp_text.hpp"
+#include "mo/symbolic/traversal.hpp"
 #include "printer.hpp"
 
 namespace mo::codegen::detail {
@@ -24,6 +25,17 @@ namespace {
 std::string boolean(const std::string& condition) { return "(" + condition + ") ? 1.0 : 0.0"; }
 
 std::string call(std::string_view f, const std::string& a) { return fmt::format("{}({})", f, a); }
+
+/// True if `e` reads a discrete variable or a pre() value: only events change
+/// those, so a change within an event iteration is the model's own, not
+/// rounding.
+bool reads_discrete(const symbolic::ExprArena& a, Expr e) {
+  for (const Expr leaf : symbolic::leaves(a, std::span(&e, 1)))
+    if (a.kind(leaf) == ExprKind::Pre ||
+        (a.kind(leaf) == ExprKind::Symbol && a.symbol_info(leaf).role == symbolic::SymbolRole::Discrete))
+      return true;
+  return false;
+}
 
 }  // namespace
 
@@ -85,9 +97,17 @@ std::string node_code(const symbolic::ExprArena& ar, const Program& p, const Ins
   case ExprKind::NoEvent: value = o[0]; break;
   case ExprKind::Smooth: value = o[1]; break;
   }
-  if (ins.crossing >= 0)  // a relation on an indicator: its value follows the crossing
-    value = fmt::format("cross[{0}] != 0 ? (cross[{0}] < 0 ? {1} : {2}) : ({3})", ins.crossing,
+  // A relation on an indicator a - b crossed at this instant: its value
+  // follows the crossing. One that reads a discrete variable follows it only
+  // while the indicator stays at zero (G::held_at_zero): a clause may move
+  // it away in the event iteration (a timer restarted by its next step).
+  if (ins.crossing >= 0) {
+    const std::string held = reads_discrete(ar, e)
+                                 ? fmt::format("cross[{}] != 0 && G::held_at_zero({}, {})", ins.crossing, o[0], o[1])
+                                 : fmt::format("cross[{}] != 0", ins.crossing);
+    value = fmt::format("{0} ? (cross[{1}] < 0 ? {2} : {3}) : ({4})", held, ins.crossing,
                         cpp_double(ins.value_if_down), cpp_double(1.0 - ins.value_if_down), value);
+  }
   return value;
 }
 

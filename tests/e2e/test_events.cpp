@@ -222,3 +222,24 @@ TEST_CASE("a when-clause's new value reaches the equations of the same event ite
                       [&](double t) { return std::fabs(t - fired) < 1e-9; }));
   }
 }
+
+TEST_CASE("a relation whose indicator a clause moves away from zero takes its value again (TwoStepTimers)") {
+  // tests/e2e/data/TwoStepTimers.mo: both timers cross zero at t = 1; step
+  // B's clause restarts its timer there. The run stopped at the event
+  // iteration limit when the crossing's value was held for B's relation too.
+  auto model = compiled_model("e2e_two_step_timers", {{kData + "TwoStepTimers.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  for (const double stop : {3.5, 4.5}) {
+    const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, stop, 10), tight());
+    INFO(r.message);
+    REQUIRE(r.ok());
+    const bool a_active = stop == 4.5;  // A on [0, 1), [2, 3), [4, 5); B on [1, 2), [3, 4)
+    CHECK(discrete_value(*model, "a") == (a_active ? 1.0 : 0.0));
+    CHECK(discrete_value(*model, "b") == (a_active ? 0.0 : 1.0));
+    CHECK(discrete_value(*model, "entries") == std::floor(stop));
+    CHECK(discrete_value(*model, "ta") == (a_active ? 4.0 : 2.0));
+    CHECK(discrete_value(*model, "tb") == 3.0);
+    for (int k = 1; k <= static_cast<int>(stop); ++k)  // a hand-over at every second
+      CHECK(std::any_of(r.event_times.begin(), r.event_times.end(), [&](double t) { return std::fabs(t - k) < 1e-9; }));
+  }
+}

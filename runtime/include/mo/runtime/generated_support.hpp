@@ -12,6 +12,7 @@
 // records why in the workspace; evaluation itself never throws.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -27,6 +28,15 @@ namespace mo::runtime::generated {
 inline double sign(double a) {
   if (std::isnan(a)) return a;
   return a > 0 ? 1.0 : (a < 0 ? -1.0 : 0.0);
+}
+/// True while the indicator a - b of a relation crossed at this instant, and
+/// that reads a discrete variable, is still at its zero, within rounding and
+/// the event iteration's Newton tolerance (1e-6 of max(1, |a|, |b|)): the
+/// relation keeps the value of its crossing's direction. One that a clause
+/// moved away (a timer's `time >= t_start + waitTime` once t_start := time)
+/// takes its value again.
+inline bool held_at_zero(double a, double b) {
+  return std::abs(a - b) <= 1e-6 * std::max({1.0, std::abs(a), std::abs(b)});
 }
 /// min(a, b); NaN if either operand is NaN (commutative).
 inline double min(double a, double b) {
