@@ -203,7 +203,9 @@ private:
     case ExprKind::Ne:
     case ExprKind::And:
     case ExprKind::Or:
-    case ExprKind::Not: return store(piecewise_constant());
+    case ExprKind::Not:
+    case ExprKind::ArgList:
+    case ExprKind::External: return store(piecewise_constant());
     }
     return 0;
   }

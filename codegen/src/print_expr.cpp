@@ -96,6 +96,13 @@ std::string node_code(const symbolic::ExprArena& ar, const Program& p, const Ins
   case ExprKind::Not: value = boolean(o[0] + " == 0"); break;
   case ExprKind::NoEvent: value = o[0]; break;
   case ExprKind::Smooth: value = o[1]; break;
+  case ExprKind::ArgList: value = o[0]; break;  // read through the External above it
+  case ExprKind::External: {
+    std::string args;
+    for (const Expr a : ar.external_args(e)) args += (args.empty() ? "" : ", ") + operand_code(ar, p, a);
+    value = fmt::format("G::modelica_random({}, {{{}}})", o[0], args);
+    break;
+  }
   }
   // A relation on an indicator a - b crossed at this instant: its value
   // follows the crossing. One that reads a discrete variable follows it only

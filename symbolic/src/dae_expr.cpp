@@ -7,6 +7,9 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
+#include "mo/runtime/modelica_random.hpp"
 #include "mo/symbolic/differentiate.hpp"
 #include "mo/symbolic/traversal.hpp"
 
@@ -111,6 +114,19 @@ Expr ExprConverter::convert(const ast::Expr& e) {
                  "scalarised by flattening)");
 }
 
+namespace {
+
+/// The generator a flat call of a ModelicaExternalC random function names, or 0.
+int random_generator(std::string_view name) {
+  namespace random = runtime::modelica_random;
+  for (const auto g : {random::Generator::Xorshift64star, random::Generator::Xorshift128plus,
+                       random::Generator::Xorshift1024star})
+    if (name == random::c_name(g)) return static_cast<int>(g);
+  return 0;
+}
+
+}  // namespace
+
 Expr ExprConverter::call(const ast::Expr& e) {
   const std::string name = e.ref.str();
   std::vector<Expr> x;
@@ -139,6 +155,15 @@ Expr ExprConverter::call(const ast::Expr& e) {
     const double p = a_.is_constant(x[0]) ? a_.constant_value(x[0]) : -1;
     if (p >= 0 && p == std::floor(p)) return a_.smooth(static_cast<int>(p), x[1]);
     return fail(e, "smooth() needs a constant order");
+  }
+  if (const int g = random_generator(name); g > 0) {
+    // ModelicaRandom_xorshift64star(k, state...): output k (flatten_random.cpp)
+    namespace random = runtime::modelica_random;
+    const std::size_t n = random::state_size(static_cast<random::Generator>(g));
+    const double k = x.size() == n + 1 && a_.is_constant(x[0]) ? a_.constant_value(x[0]) : -1;
+    if (k < 0 || k > static_cast<double>(n) || k != std::floor(k))
+      return fail(e, fmt::format("'{}' needs a constant output index from 0 to {} and {} state values", name, n, n));
+    return a_.external(g * random::kCodeBase + static_cast<int>(k), std::span(x).subspan(1));
   }
   if (name == "initial" && initial_) return initial_();
   if (name == "initial" || name == "terminal") return a_.constant(0.0);

@@ -3,6 +3,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "mo/runtime/modelica_random.hpp"
 #include "mo/symbolic/printer.hpp"
 #include "mo/symbolic/traversal.hpp"
 #include "node_set.hpp"
@@ -26,6 +27,12 @@ Evaluator::Evaluator(const ExprArena& arena, std::span<const Expr> outputs) {
     } else {
       for (std::size_t i = 0; i < arity(ins.kind); ++i)
         ins.operand[i] = static_cast<std::uint32_t>(index.position(arena.operand(e, i)));
+      if (ins.kind == ExprKind::External) {  // operand 1: its arguments' slots
+        std::vector<std::uint32_t> slots;
+        for (const Expr a : arena.external_args(e)) slots.push_back(static_cast<std::uint32_t>(index.position(a)));
+        ins.operand[1] = static_cast<std::uint32_t>(lists_.size());
+        lists_.push_back(std::move(slots));
+      }
     }
     instructions_.push_back(ins);
   }
@@ -58,6 +65,13 @@ void Evaluator::evaluate(std::span<const double> leaf_values, std::span<double> 
     case ExprKind::Symbol:
     case ExprKind::Der:
     case ExprKind::Pre: break; // written from leaf_values above
+    case ExprKind::ArgList: work[slot] = work[ins.operand[0]]; break;
+    case ExprKind::External: {
+      std::vector<double> args;
+      for (const std::uint32_t s : lists_[ins.operand[1]]) args.push_back(work[s]);
+      work[slot] = runtime::modelica_random::value(static_cast<int>(work[ins.operand[0]]), args);
+      break;
+    }
     case ExprKind::Add:
     case ExprKind::Sub:
     case ExprKind::Mul:

@@ -4,7 +4,9 @@
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
+#include "mo/runtime/modelica_random.hpp"
 #include "mo/symbolic/expr_arena.hpp"
 #include "scalar_ops.hpp"
 
@@ -58,6 +60,8 @@ bool is_unary_function(ExprKind kind) {
   case ExprKind::Or:
   case ExprKind::Not:
   case ExprKind::Smooth:
+  case ExprKind::ArgList:
+  case ExprKind::External:
     return false;
   }
   return false;
@@ -203,6 +207,26 @@ Expr ExprArena::smooth(int order, Expr a) {
   return intern(ExprKind::Smooth, constant(order), a);
 }
 
+Expr ExprArena::external(int code, std::span<const Expr> args) {
+  if (runtime::modelica_random::generator_of(code) == 0)
+    throw std::invalid_argument("external(): no provided function has code " + std::to_string(code));
+  std::vector<double> values;
+  for (const Expr a : args)
+    if (is_constant(a)) values.push_back(constant_value(a));
+  // Every argument known: the value the generated code would compute.
+  if (values.size() == args.size()) return constant(runtime::modelica_random::value(code, values));
+  Expr list = constant(0);
+  for (std::size_t i = args.size(); i-- > 0;) list = intern(ExprKind::ArgList, args[i], list);
+  return intern(ExprKind::External, constant(code), list);
+}
+
+std::vector<Expr> ExprArena::external_args(Expr e) const {
+  std::vector<Expr> out;
+  for (Expr cell = operand(e, 1); kind(cell) == ExprKind::ArgList; cell = operand(cell, 1))
+    out.push_back(operand(cell, 0));
+  return out;
+}
+
 Expr ExprArena::select(Expr condition, Expr a, Expr b) {
   // A constant condition chooses its branch (nonzero is true).
   if (is_constant(condition)) return constant_value(condition) != 0 ? a : b;
@@ -301,6 +325,13 @@ Expr ExprArena::make(ExprKind k, std::span<const Expr> ops) {
   case ExprKind::And: return logical_and(ops[0], ops[1]);
   case ExprKind::Or: return logical_or(ops[0], ops[1]);
   case ExprKind::Not: return logical_not(ops[0]);
+  case ExprKind::ArgList: return intern(ExprKind::ArgList, ops[0], ops[1]);
+  case ExprKind::External: {
+    if (!is_constant(ops[0])) throw std::invalid_argument("external(): the code must be a constant");
+    std::vector<Expr> args;
+    for (Expr cell = ops[1]; kind(cell) == ExprKind::ArgList; cell = operand(cell, 1)) args.push_back(operand(cell, 0));
+    return external(static_cast<int>(constant_value(ops[0])), args);
+  }
   case ExprKind::Smooth: {
     const double order = is_constant(ops[0]) ? constant_value(ops[0]) : -1;
     if (order < 0 || order != std::floor(order) || order > 1e6)

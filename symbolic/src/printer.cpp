@@ -3,9 +3,12 @@
 #include <algorithm>
 
 #include <cmath>
+#include <deque>
+#include <string>
 #include <fmt/format.h>
 #include <vector>
 
+#include "mo/runtime/modelica_random.hpp"
 #include "mo/symbolic/traversal.hpp"
 
 namespace mo::symbolic {
@@ -118,7 +121,9 @@ int level(const ExprArena& arena, Expr e) {
   case ExprKind::Floor:
   case ExprKind::Ceil:
   case ExprKind::NoEvent:
-  case ExprKind::Smooth: return kPrimary;
+  case ExprKind::Smooth:
+  case ExprKind::ArgList:
+  case ExprKind::External: return kPrimary;
   }
   return kPrimary;
 }
@@ -259,15 +264,32 @@ private:
     case ExprKind::Floor:
     case ExprKind::Ceil:
     case ExprKind::NoEvent:
-    case ExprKind::Smooth: call(e); break;
+    case ExprKind::Smooth:
+    case ExprKind::ArgList: call(e); break;
+    case ExprKind::External: external(e); break;
     }
     flush();
+  }
+
+  // The flat call: ModelicaRandom_xorshift64star(k, state...) for output k.
+  void external(Expr e) {
+    const int code = static_cast<int>(arena_.constant_value(arena_.operand(e, 0)));
+    namespace random = runtime::modelica_random;
+    text(random::c_name(static_cast<random::Generator>(random::generator_of(code))));
+    owned_.push_back("(" + std::to_string(code % random::kCodeBase));
+    text(owned_.back());
+    for (const Expr a : arena_.external_args(e)) {
+      text(", ");
+      operand(a, kIf);
+    }
+    text(")");
   }
 
   const ExprArena& arena_;
   std::string& out_;
   std::vector<Item> stack_;
   std::vector<Item> pending_;
+  std::deque<std::string> owned_;  ///< texts made while printing (stable addresses)
 };
 
 } // namespace

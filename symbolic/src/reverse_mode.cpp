@@ -145,6 +145,8 @@ private:
     case ExprKind::And:
     case ExprKind::Or:
     case ExprKind::Not:
+    case ExprKind::ArgList:
+    case ExprKind::External:
       return;
     }
     throw std::logic_error("internal error: adjoint propagation of unknown kind");

@@ -19,6 +19,9 @@ double apply_scalar(ExprKind kind, double a, double b, double c) {
   case ExprKind::Pre:
     throw std::logic_error("internal error: apply_scalar on leaf kind " +
                            std::string(kind_name(kind)));
+  case ExprKind::ArgList:
+  case ExprKind::External:  // the evaluator and ExprArena::external() read the argument list
+    throw std::logic_error("internal error: apply_scalar on " + std::string(kind_name(kind)));
   case ExprKind::Add: return a + b;
   case ExprKind::Sub: return a - b;
   case ExprKind::Mul: return a * b;

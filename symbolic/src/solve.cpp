@@ -25,7 +25,7 @@ bool breaks_affinity(ExprKind k) {
   switch (k) {
     case ExprKind::Lt: case ExprKind::Le: case ExprKind::Gt: case ExprKind::Ge:
     case ExprKind::Eq: case ExprKind::Ne: case ExprKind::Sign: case ExprKind::Floor:
-    case ExprKind::Ceil:
+    case ExprKind::Ceil: case ExprKind::ArgList: case ExprKind::External:
       return true;
     case ExprKind::Constant: case ExprKind::Symbol: case ExprKind::Der: case ExprKind::Pre:
     case ExprKind::Add: case ExprKind::Sub: case ExprKind::Mul: case ExprKind::Div:

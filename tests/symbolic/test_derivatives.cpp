@@ -93,6 +93,12 @@ KindCase case_for(ExprArena& A, ExprKind kind) {
             {{0, 1}, {1, 0}}};
   case ExprKind::Smooth:
     return {A.smooth(2, A.mul(A.mul(x, x), A.sin(y))), x, y, -2, 2, zeros};
+  // A provided random generator of an Integer state: piecewise constant.
+  case ExprKind::ArgList:
+  case ExprKind::External: {
+    const Expr state[] = {A.floor(xy), A.constant(7)};
+    return {A.add(A.external(100, state), x), x, y, -2, 2, {{0.7, 1.3}, {-0.7, 1.3}, {0.5, 0.5}}};
+  }
   }
   FAIL("no case for kind");
   return {};
@@ -103,7 +109,7 @@ KindCase case_for(ExprArena& A, ExprKind kind) {
 bool away_from_jumps(ExprKind kind, double u, double v) {
   const double guard = 4e-2 * std::max({1.0, std::fabs(u), std::fabs(v)});
   const double xy = u * v;
-  if (kind == ExprKind::Floor || kind == ExprKind::Ceil)
+  if (kind == ExprKind::Floor || kind == ExprKind::Ceil || kind == ExprKind::ArgList || kind == ExprKind::External)
     return std::fabs(xy - std::round(xy)) > guard;
   if (kind == ExprKind::Sign || kind == ExprKind::Abs) return std::fabs(xy) > guard;
   if (kind == ExprKind::Min || kind == ExprKind::Max) return std::fabs(std::sin(u) - v) > guard;

@@ -2,10 +2,13 @@
 #include <catch2/catch.hpp>
 
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 
+#include "mo/symbolic/evaluator.hpp"
 #include "mo/symbolic/expr_arena.hpp"
+#include "mo/symbolic/printer.hpp"
 
 using namespace mo::symbolic;
 
@@ -188,11 +191,38 @@ TEST_CASE_METHOD(Fixture, "symbols keep name, role and index", "[symbolic][arena
 }
 
 TEST_CASE("the kind table matches expr_kinds.def", "[symbolic][arena]") {
-  CHECK(expr_kind_count == 42);
+  CHECK(expr_kind_count == 44);
   CHECK(arity(ExprKind::Select) == 3);
   CHECK(arity(ExprKind::Atan2) == 2);
   CHECK(kind_name(ExprKind::NoEvent) == "NoEvent");
   CHECK(kind_spelling(ExprKind::Ne) == "<>");
+}
+
+TEST_CASE("a provided random generator folds known states and keeps the others", "[symbolic][arena]") {
+  ExprArena A;
+  const Expr s1 = A.symbol("s1", SymbolRole::Discrete, 0);
+  // xorshift64* from {1, 2}: the 64-bit word 2^33 + 1 stepped by hand.
+  std::uint64_t w = (std::uint64_t{2} << 32) | 1;
+  w ^= w >> 12;
+  w ^= w << 25;
+  w ^= w >> 27;
+  w *= 2685821657736338717ULL;
+  const double y = static_cast<double>(static_cast<std::int64_t>(w)) / 18446744073709551616.0 + 0.5;
+  const Expr known[] = {A.constant(1), A.constant(2)};
+  CHECK(A.is_constant(A.external(100, known), y));
+  CHECK(A.is_constant(A.external(101, known), static_cast<double>(static_cast<std::int32_t>(w))));
+  CHECK(A.is_constant(A.external(102, known), static_cast<double>(static_cast<std::int32_t>(w >> 32))));
+  const Expr varying[] = {s1, A.constant(2)};
+  const Expr e = A.external(100, varying);
+  CHECK(A.kind(e) == ExprKind::External);
+  CHECK(A.external_args(e) == std::vector<Expr>{s1, A.constant(2)});
+  CHECK(A.external(100, varying) == e);  // hash-consed
+  CHECK(to_modelica(A, e) == "ModelicaRandom_xorshift64star(0, s1, 2)");
+  CHECK(evaluate(A, std::span(&e, 1), {{s1, 1.0}})[0] == y);
+  CHECK_THROWS_AS(A.external(7, varying), std::invalid_argument);
+  // Rebuilt through make(), as substitution does: the same node.
+  const Expr ops[] = {A.operand(e, 0), A.operand(e, 1)};
+  CHECK(A.make(ExprKind::External, ops) == e);
 }
 
 TEST_CASE("many distinct nodes hash-cons correctly as the table grows", "[symbolic][arena]") {

@@ -15,12 +15,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <initializer_list>
 #include <limits>
 #include <memory>
 #include <span>
 #include <string>
 #include <unordered_map>
 #include <vector>
+
+#include "mo/runtime/modelica_random.hpp"
 
 namespace mo::runtime::generated {
 
@@ -37,6 +40,11 @@ inline double sign(double a) {
 /// takes its value again.
 inline bool held_at_zero(double a, double b) {
   return std::abs(a - b) <= 1e-6 * std::max({1.0, std::abs(a), std::abs(b)});
+}
+/// Output `code` of a ModelicaExternalC random generator at the state `args`
+/// (ExprKind::External; mo/runtime/modelica_random.hpp).
+inline double modelica_random(double code, std::initializer_list<double> args) {
+  return mo::runtime::modelica_random::value(static_cast<int>(code), std::span(args.begin(), args.size()));
 }
 /// min(a, b); NaN if either operand is NaN (commutative).
 inline double min(double a, double b) {

@@ -48,6 +48,7 @@ private:
   std::vector<Expr> leaves_;
   std::vector<std::uint32_t> leaf_slots_;   // parallel to leaves_
   std::vector<std::uint32_t> outputs_;      // slot of each output
+  std::vector<std::vector<std::uint32_t>> lists_;  // External: the slots of its arguments
 };
 
 /// Values of `outputs` with leaves looked up in `values`. Throws

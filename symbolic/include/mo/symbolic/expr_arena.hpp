@@ -98,6 +98,12 @@ public:
   /// smooth(order, a): a is `order` times continuously differentiable.
   /// Throws std::invalid_argument if order < 0.
   Expr smooth(int order, Expr a);
+  /// Output `code` of a provided external function of `args` (ExprKind::
+  /// External); folded to its value when every argument is a constant.
+  /// Throws std::invalid_argument for a code no function has.
+  Expr external(int code, std::span<const Expr> args);
+  /// The arguments of an External node `e`, in order.
+  std::vector<Expr> external_args(Expr e) const;
 
   // --- Conditionals, relations, logic -------------------------------------
 
