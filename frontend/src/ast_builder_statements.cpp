@@ -103,8 +103,14 @@ void AstBuilder::external_clause(P::CompositionContext *ctx, ClassDef &cls) {
     std::string raw = text(lang->STRING()->getSymbol());
     cls.external_language = unescape_string(raw.substr(1, raw.size() - 2));
   }
-  if (auto *call = ctx->external_function_call())
+  if (auto *call = ctx->external_function_call()) {
     cls.external_function = ident(call->IDENT());
+    if (auto *result = call->component_reference())
+      cls.external_result = component_reference(result).str();
+    if (auto *list = call->expression_list())
+      for (auto *x : list->expression())
+        cls.external_args.push_back(expression(x));
+  }
 }
 
 } // namespace mo::frontend::detail

@@ -224,6 +224,9 @@ void Flattener::finish_connections() {
     eq.rhs = ast::make_real(0, var.range);
     model_->equations.push_back(std::move(eq));
   }
+  if (!impure_vars_.empty() && impure_state_.empty())
+    diags_.report(DiagId::Unsupported, model_->variables[static_cast<std::size_t>(impure_vars_[0])].range,
+                  "the impure random generator is drawn from, but never initialised (initializeImpureRandom)");
   if (!diags_.has_errors()) {
     drop_repeated_equations();
     when_assignments_to_reinits();

@@ -451,8 +451,10 @@ void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<as
         for (auto &x : c.elems) cond->args.push_back(std::move(x));
       }
       ast::EquationBranch fb{std::move(cond), {}, b.range};
+      ++when_branch_serial_;
       for (const auto &x : b.body)
         equation(x, inner, fb.body);
+      impure_draws_of_branch(fb.body);
       f.branches.push_back(std::move(fb));
     }
     out.push_back(std::move(f));

@@ -61,6 +61,10 @@ constexpr BuiltinInfo kBuiltins[] = {
     {"div", 2, 2, true},   {"mod", 2, 2, true},     {"rem", 2, 2, true},    {"smooth", 2, 2, false},
     {"initial", 0, 0, false}, {"terminal", 0, 0, false}, {"sample", 2, 2, false},
     {"delay", 2, 3, false},
+    // Flat models' calls of ModelicaExternalC's random generators: output k,
+    // then the state (flatten_random.cpp); what --emit flat prints parses again.
+    {"ModelicaRandom_xorshift64star", 3, 3, false}, {"ModelicaRandom_xorshift128plus", 5, 5, false},
+    {"ModelicaRandom_xorshift1024star", 34, 34, false},
 };
 
 const BuiltinInfo *find_builtin(const std::string &n) {

@@ -602,6 +602,8 @@ private:
       const std::string n = st.value->ref.str();
       if (n == "assert" || n == "terminate")
         return; // checks only; the flat model keeps the caller's asserts
+      if (ClassNode *callee = f_.lookup_function(*st.value, s); callee && f_.call_statement(callee, *st.value, s))
+        return;
       unsupported(st.range, "the statement '" + n + "(...)' has effects other than its outputs");
     }
     case StatementKind::Break:
@@ -1048,6 +1050,19 @@ std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &si
 
 } // namespace
 
+bool Flattener::call_statement(ClassNode *fn, const Expr &call, const Scope &s) {
+  const ast::ClassDef &def = *fn->def;
+  if (!def.is_external || def.external_language != "C")
+    return false;
+  Signature sig;
+  collect(*this, fn, sig, 0);
+  const std::vector<const Expr *> args = match_arguments(*this, sig, call, fn->path());
+  std::vector<std::string> in_names;
+  for (const auto &[c, owner] : sig.inputs)
+    in_names.push_back(c->name);
+  return provided_random_statement(def, in_names, args, call, s);
+}
+
 std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, const Scope &s,
                                              std::size_t wanted) {
   const ast::ClassDef &def = *fn->def;
@@ -1061,6 +1076,12 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
   Signature sig;
   collect(*this, fn, sig, 0);
   std::vector<const Expr *> args = match_arguments(*this, sig, call, fn_name);
+  struct WhenGuard { // the functions a when-clause calls (impure draws are refused there)
+    unsigned &n;
+    bool on;
+    ~WhenGuard() { n -= on ? 1 : 0; }
+  } when_guard{calls_in_when_, s.in_when};
+  calls_in_when_ += s.in_when ? 1 : 0;
   if (wanted > sig.outputs.size() || sig.outputs.empty())
     fail(DiagId::WrongArgumentCount, call.range,
          fmt::format("function '{}' has {} output(s); {} are used", fn_name, sig.outputs.size(),
@@ -1068,6 +1089,14 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
 
   if (def.is_external) {
     if (def.external_language == "C") {
+      std::vector<std::string> in_names, out_names;
+      for (const auto &[c, owner] : sig.inputs)
+        in_names.push_back(c->name);
+      for (const auto &[c, owner] : sig.outputs)
+        out_names.push_back(c->name);
+      std::vector<Tensor> random_outputs;
+      if (provided_random(def, fn_name, in_names, out_names, args, call, s, random_outputs))
+        return random_outputs;
       Tensor provided;
       if (provided_external(def.external_function, args, call, s, provided) ||
           provided_string_function(def.external_function, args, call, s, provided)) {

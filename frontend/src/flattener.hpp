@@ -357,6 +357,9 @@ public:
   /// Reports what cannot be inlined and throws Reported.
   std::vector<Tensor> call_function(ClassNode *fn, const ast::Expr &call, const Scope &s,
                                     std::size_t wanted = 1);
+  /// A call statement of function `fn` without outputs that has an effect
+  /// the tool provides (the impure random generator's state); false if none.
+  bool call_statement(ClassNode *fn, const ast::Expr &call, const Scope &s);
   /// The indices into `slot` (a local's value) that `ref` designates
   /// (subscripts and record fields); `shape` gets their dims and record.
   std::vector<std::size_t> designate(const Tensor &slot, const ast::ComponentRef &ref, const Scope &s,
@@ -411,6 +414,38 @@ public:
   /// constant strings (flatten_strings.cpp): the result in `out`.
   bool provided_string_function(const std::string &c_name, const std::vector<const ast::Expr *> &args,
                                 const ast::Expr &call, const Scope &s, Tensor &out);
+  /// The random functions of ModelicaExternalC (flatten_random.cpp): a call
+  /// of external "C" function `def` (the function `fn_name`, its inputs and
+  /// outputs named in order, `args` matched to the inputs): its outputs in
+  /// `out`; false if def names none of them.
+  bool provided_random(const ast::ClassDef &def, const std::string &fn_name, const std::vector<std::string> &inputs,
+                       const std::vector<std::string> &outputs, const std::vector<const ast::Expr *> &args,
+                       const ast::Expr &call, const Scope &s, std::vector<Tensor> &out);
+  /// The same for a call statement without outputs (the impure generator's
+  /// setInternalState); false if def names none.
+  bool provided_random_statement(const ast::ClassDef &def, const std::vector<std::string> &inputs,
+                                 const std::vector<const ast::Expr *> &args, const ast::Expr &call, const Scope &s);
+  /// The elements of `t` as 32-bit Integers, evaluated now (reported otherwise).
+  std::vector<std::int32_t> random_integers(const Tensor &t, SourceRange where);
+  /// Warns once per function that it is evaluated at translation.
+  void evaluated_random(const std::string &fn_name, SourceRange where, const std::string &why);
+  std::set<std::string> random_warned_;
+  std::optional<std::int32_t> automatic_seed_;  ///< automaticGlobalSeed(), drawn once
+  std::vector<std::int32_t> impure_state_;       ///< the impure xorshift1024* state
+  std::int32_t impure_id_ = 0;                   ///< the id initializeImpureRandom gave
+  unsigned calls_in_when_ = 0;                   ///< functions being inlined for a when-clause
+  /// impureRandom() in a when-clause: the next number from the hidden state
+  /// (made discrete variables on first use), the clause's state stepped.
+  ast::ExprPtr impure_event_draw(SourceRange where);
+  /// Appends `state = stepped state` to the body of the when-branch just
+  /// flattened if it drew impure numbers.
+  void impure_draws_of_branch(std::vector<ast::Equation> &body);
+  /// The hidden state's variables start where the translation's draws left it.
+  void impure_starts();
+  std::vector<std::int32_t> impure_vars_;         ///< ModelicaRandom.impureState[1..33]
+  std::vector<ast::ExprPtr> impure_branch_state_;  ///< the state after this branch's draws
+  int impure_branch_ = -1;                         ///< the when-branch that draws, or -1
+  int when_branch_serial_ = 0;                     ///< counts the when-branches flattened
   struct ExternalObject;
   std::map<const Instance *, std::shared_ptr<ExternalObject>> external_objects_;
   /// The table behind the external-object reference `ref` (flattened once).

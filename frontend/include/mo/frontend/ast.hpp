@@ -295,6 +295,8 @@ struct ClassDef {
   std::vector<AlgorithmSection> model_algorithms; ///< other classes: sections that are not equations
   std::string external_language;    ///< `external "builtin"`: "builtin" (unescaped)
   std::string external_function;    ///< the called name in `external "C" y = f(u)`; may be empty
+  std::string external_result;      ///< `y` in `external "C" y = f(u)`; empty without one
+  std::vector<ExprPtr> external_args; ///< `u` in `external "C" y = f(u)`, as written
 };
 
 /// A parsed file: `within` prefix and its top-level classes.
