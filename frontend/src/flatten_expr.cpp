@@ -1008,6 +1008,16 @@ ExprPtr Flattener::take_pending(std::int32_t var, const std::string &attribute) 
 }
 
 ExprPtr Flattener::binding_expr(const Modifier &m) {
+  Tensor t = binding_tensor(m);
+  if (t.record)
+    fail(DiagId::TypeMismatch, m.binding->range, "a record is bound to a number");
+  if (!t.is_scalar())
+    fail(DiagId::TypeMismatch, m.binding->range,
+         "an array of size " + dims_text(t.dims) + " is bound to a scalar");
+  return std::move(t.elems[0]);
+}
+
+Tensor Flattener::binding_tensor(const Modifier &m) {
   Scope s{m.scope, m.lexical, nullptr};
   Tensor t = expr(*m.binding, s);
   const auto take = [&](const std::vector<int> &index) {
@@ -1032,12 +1042,7 @@ ExprPtr Flattener::binding_expr(const Modifier &m) {
     t = record_field(t, field, m.binding->range);
     take(index);
   }
-  if (t.record)
-    fail(DiagId::TypeMismatch, m.binding->range, "a record is bound to a number");
-  if (!t.is_scalar())
-    fail(DiagId::TypeMismatch, m.binding->range,
-         "an array of size " + dims_text(t.dims) + " is bound to a scalar");
-  return std::move(t.elems[0]);
+  return t;
 }
 
 } // namespace mo::frontend::detail

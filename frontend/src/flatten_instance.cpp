@@ -393,8 +393,8 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
     if (d->kind == ast::ExprKind::Colon) {
       if (!full.binding)
         fail(DiagId::Unsupported, d->range, "an array of unknown size ':' needs a binding to take its size from");
-      if (!bound)
-        bound = expr(*full.binding, Scope{full.scope, full.lexical, nullptr});
+      if (!bound)  // a record's field: its part of the record's binding
+        bound = binding_tensor(full);
       if (i >= bound->dims.size())
         fail(DiagId::TypeMismatch, full.binding->range,
              "the binding has fewer dimensions than '" + comp.name + "' is declared with");

@@ -303,6 +303,9 @@ public:
   std::vector<std::unique_ptr<ClassNode>> synthetic_classes_; ///< short classes of redeclarations
   /// A binding, flattened and taken at the modifier's element index.
   ast::ExprPtr binding_expr(const Modifier &m);
+  /// The value `m` binds: its binding flattened in its scope, then the
+  /// element (m.index) and record fields (m.fields) it selects.
+  Tensor binding_tensor(const Modifier &m);
 
   struct PendingBinding {
     std::int32_t var;

@@ -162,3 +162,35 @@ TEST_CASE("a record constructor takes its defaults from the record's extends mod
   CHECK(flat.find("parameter Real s = 5 + (1 + 2 + 3 + 4 + 5 + 6);") != std::string::npos);
   CHECK(flat.find("parameter Real f = 7 + 2;") != std::string::npos);
 }
+
+TEST_CASE("a record component's [:, :] field takes its size from the record's binding", "[records]") {
+  // The MSL's GenericHystTellinenTable: `parameter BaseData mat = BaseData()`
+  // with `mat = M330_50A()` from outside, tabris declared [:, :]: the field
+  // was sized from the whole record value, not from its own part of it.
+  const std::string source = R"(
+    record Base
+      parameter Real[:, :] tab = [1, 2; 3, 4];
+      parameter Real k = 1;
+    end Base;
+    record Big
+      extends Base(tab = [1, 2; 3, 4; 5, 6], k = 2);
+    end Big;
+    model M
+      parameter Base mat = Base();
+      Real y = mat.tab[size(mat.tab, 1), 2] * mat.k * time;
+    end M;
+    model Use
+      M m(mat = Big());
+    end Use;)";
+  Compiled own = compile_text(source, "M");
+  INFO(own.diagnostics);
+  REQUIRE(own.ok());
+  CHECK(own.model->print().find("y = `mat.tab[2,2]` * `mat.k` * time;") != std::string::npos);
+  Compiled modified = compile_text(source, "Use");
+  INFO(modified.diagnostics);
+  REQUIRE(modified.ok());
+  const std::string text = modified.model->print();
+  CHECK(text.find("parameter Real `m.mat.tab[3,2]` = 6;") != std::string::npos);
+  CHECK(text.find("parameter Real `m.mat.k` = 2;") != std::string::npos);
+  CHECK(text.find("`m.y` = `m.mat.tab[3,2]` * `m.mat.k` * time;") != std::string::npos);
+}
