@@ -61,6 +61,9 @@ constexpr BuiltinInfo kBuiltins[] = {
     {"div", 2, 2, true},   {"mod", 2, 2, true},     {"rem", 2, 2, true},    {"smooth", 2, 2, false},
     {"initial", 0, 0, false}, {"terminal", 0, 0, false}, {"sample", 2, 2, false},
     {"delay", 2, 3, false},
+    // Integer(e): an enumeration literal's ordinal; enumerations are flattened
+    // to their ordinals already, so the value itself.
+    {"Integer", 1, 1, true},
     // Flat models' calls of ModelicaExternalC's random generators: output k,
     // then the state (flatten_random.cpp); what --emit flat prints parses again.
     {"ModelicaRandom_xorshift64star", 3, 3, false}, {"ModelicaRandom_xorshift128plus", 5, 5, false},
@@ -224,9 +227,34 @@ const ast::Component *Flattener::imported_constant(ClassNode *cls, const std::st
 }
 
 bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out) {
-  for (const auto &p : ref.parts)
-    if (!p.subscripts.empty())
+  for (std::size_t i = 0; i + 1 < ref.parts.size(); ++i)
+    if (!ref.parts[i].subscripts.empty())
       return false;
+  if (!ref.parts.back().subscripts.empty()) {
+    // `Tables.AndTable[1, :]`: the constant's value, subscripted. A subscript
+    // that varies is varying_subscript()'s, on this with a colon there.
+    for (const auto &sub : ref.parts.back().subscripts)
+      if (sub->kind != ExprKind::Colon) {
+        const Tensor index = expr(*sub, s);
+        if (!std::all_of(index.elems.begin(), index.elems.end(), [&](const ExprPtr &x) { return is_constant(*x); }))
+          return false;
+      }
+    ast::ComponentRef bare;
+    bare.global = ref.global;
+    for (const auto &part : ref.parts)
+      bare.parts.push_back(ast::RefPart{part.name, {}});
+    Tensor whole;
+    if (!lookup_constant(bare, s, where, whole))
+      return false;
+    ast::ComponentRef own;
+    own.parts.push_back(ast::RefPart{ref.parts.back().name, {}});
+    for (const auto &sub : ref.parts.back().subscripts)
+      own.parts.back().subscripts.push_back(sub->clone());
+    const std::vector<std::size_t> picked = designate(whole, own, s, where, out);
+    for (const std::size_t k : picked)
+      out.elems.push_back(whole.elems[k]->clone());
+    return true;
+  }
   const std::size_t n = ref.parts.size();
   auto value_of = [&](ClassNode *owner, const ast::Component &c) {
     if (c.variability != ast::Variability::Constant && c.variability != ast::Variability::Parameter)
@@ -478,6 +506,10 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
     }
     Tensor t;
     if (lookup_constant(e.ref, s, e.range, t))
+      return t;
+    // A constant of a package, subscripted by signals (the MSL's Digital:
+    // `Tables.AndTable[a, b]` with a, b of the Logic enumeration).
+    if (varying_subscript(e, s, t))
       return t;
     std::string where = s.inst && s.inst->decl ? " (in component '" + s.inst->flat + "')"
                         : s.cls ? " (in class '" + s.cls->path() + "')" : "";
@@ -904,7 +936,7 @@ double Flattener::eval(const Expr &e, SourceRange where) {
       if (n == "floor" || n == "integer") return one(std::floor);
       if (n == "ceil") return one(std::ceil);
       if (n == "sign") return a.size() == 1 ? (a[0] > 0) - (a[0] < 0) : NAN;
-      if (n == "noEvent") return a.size() == 1 ? a[0] : NAN;
+      if (n == "noEvent" || n == "Integer") return a.size() == 1 ? a[0] : NAN;
       if (n == "atan2" && a.size() == 2) return std::atan2(a[0], a[1]);
       if (n == "min" && a.size() == 2) return std::min(a[0], a[1]);
       if (n == "max" && a.size() == 2) return std::max(a[0], a[1]);

@@ -144,6 +144,7 @@ Expr ExprConverter::call(const ast::Expr& e) {
       {"integer", ExprKind::Floor}};
   for (const auto& [n, k] : unary)
     if (name == n && need(1)) return a_.apply(k, x[0]);
+  if (name == "Integer" && need(1)) return x[0];  // an enumeration's ordinal: the flat value
   if (name == "atan2" && need(2)) return a_.atan2(x[0], x[1]);
   if (name == "min" && need(2)) return a_.min(x[0], x[1]);
   if (name == "max" && need(2)) return a_.max(x[0], x[1]);

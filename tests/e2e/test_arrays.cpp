@@ -172,3 +172,21 @@ TEST_CASE("`constraint` as a component name and a UTF-8 byte-order mark simulate
                  {"z[2]", [](double) { return 2.0; }}});
   check_against("ByteOrderMarked.mo", 2, {{"x", [](double t) { return 3 * ex(2, t); }}});
 }
+
+TEST_CASE("a package's constant table indexed by two signals, a row of one, Integer() of an enumeration") {
+  auto model = compiled_model("e2e_logic_tables", {{kData + "LogicTables.mo", "LogicTables.Gate", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  // (stop time, y = AndTable[a, b]): low, low, unknown, high (ordinals 1, 1, 3, 2).
+  for (const auto& [stop, y] : std::vector<std::pair<double, double>>{{0.2, 1}, {0.4, 1}, {0.6, 3}, {0.9, 2}}) {
+    const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, stop, 4), tight());
+    INFO(r.message << " at " << stop);
+    REQUIRE(r.ok());
+    CHECK(discrete_value(*model, "y") == y);
+  }
+  const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1, 4), tight());
+  REQUIRE(r.ok());
+  // x = integral of Integer(y): 1 on [0, 0.5), 3 on [0.5, 0.75), 2 on [0.75, 1].
+  CHECK(column(r.trajectory, "x").back() == Approx(1.75).margin(1e-8));
+  for (int k = 1; k <= 3; ++k)
+    CHECK(variable("e2e_logic_tables", r.trajectory, p, "w[" + std::to_string(k) + "]").back() == 3.0 + k);
+}
