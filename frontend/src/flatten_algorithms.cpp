@@ -137,6 +137,10 @@ private:
   const std::set<std::int32_t> *branch_vars_ = nullptr;
   unsigned varying_ifs_ = 0; ///< varying `if`s around the statement being run
   bool broke_ = false;
+  unsigned loops_ = 0;      ///< for- and while-loops around the statement being run
+  /// When the innermost loop has left by a `break` under varying conditions:
+  /// the statements after it run under `not loop_broken_`; null: it has not.
+  ExprPtr loop_broken_;
 
   [[noreturn]] void unsupported(SourceRange r, const std::string &what) {
     f_.fail(DiagId::Unsupported, r, "this algorithm section cannot be flattened: " + what);
@@ -239,8 +243,27 @@ private:
     for (const Statement &st : body) {
       if (broke_)
         return;
-      exec_one(st, vals);
+      if (loop_broken_)
+        exec_unless_broken(st, vals);
+      else
+        exec_one(st, vals);
     }
+  }
+
+  /// `st` after a break under varying conditions in the same loop: as if
+  /// written `if not broken then st end if`, and breaks inside it join.
+  void exec_unless_broken(const Statement &st, Values &vals) {
+    ExprPtr broken = std::move(loop_broken_);
+    ExprPtr running = ast::make_unary(ast::Op::Not, broken->clone(), st.range);
+    Values other = clone_values(vals);
+    ++varying_ifs_;
+    guards_.push_back(running->clone());
+    exec_one(st, vals);
+    guards_.pop_back();
+    --varying_ifs_;
+    join(*running, vals, other, st.range);
+    loop_broken_ = loop_broken_ ? ast::make_binary(ast::Op::Or, std::move(broken), std::move(loop_broken_), st.range)
+                                : std::move(broken);
   }
 
   void exec_one(const Statement &st, Values &vals) {
@@ -252,8 +275,20 @@ private:
       call(st, vals);
       return;
     case StatementKind::Break:
+      if (varying_ifs_ > 0 && loops_ > 0) {
+        // Left where the varying conditions around hold: the rest of this
+        // branch is skipped (exec_if clears broke_ after it), what follows
+        // in the loop runs where they do not (exec_unless_broken).
+        ExprPtr held = guards_[0]->clone();
+        for (std::size_t g = 1; g < guards_.size(); ++g)
+          held = ast::make_binary(ast::Op::And, std::move(held), guards_[g]->clone(), st.range);
+        loop_broken_ = loop_broken_ ? ast::make_binary(ast::Op::Or, std::move(loop_broken_), std::move(held), st.range)
+                                    : std::move(held);
+        broke_ = true;
+        return;
+      }
       if (varying_ifs_ > 0)
-        unsupported(st.range, "'break' under a condition that varies in time");
+        unsupported(st.range, "'break' under a condition that varies in time, outside a loop");
       broke_ = true;
       return;
     case StatementKind::Return:
@@ -364,12 +399,21 @@ private:
     Values other = clone_values(vals);
     ++varying_ifs_;
     guards_.push_back(c->clone());
+    // A break in a branch ends it (broke_) and leaves the loop where the
+    // branch's conditions hold (loop_broken_, null on entry: exec() calls
+    // no statement while it is set); the other branches do not see it.
     exec(b.body, vals);
+    broke_ = false;
+    ExprPtr broken_here = std::move(loop_broken_);
     guards_.back() = ast::make_unary(ast::Op::Not, c->clone(), c->range);
     exec_if(branches, i + 1, other);
+    broke_ = false;
     guards_.pop_back();
     --varying_ifs_;
     join(*c, vals, other, b.range);
+    if (broken_here)
+      loop_broken_ = loop_broken_ ? ast::make_binary(ast::Op::Or, std::move(broken_here), std::move(loop_broken_), b.range)
+                                  : std::move(broken_here);
   }
 
   /// vals := if c then vals else other, per variable either side assigned.
@@ -406,19 +450,30 @@ private:
     const ast::ForIndex &fi = st.indices[index];
     if (!fi.range)
       unsupported(fi.loc, "a for-loop without a range");
+    if (index == 0)
+      ++loops_;
     for (double v : f_.eval_range(*fi.range, scope_)) {
       env_.values.emplace_back(fi.name, v);
       exec_for(st, index + 1, vals);
       env_.values.pop_back();
-      if (broke_) {
-        if (index == 0)
-          broke_ = false;
-        return;
-      }
+      if (broke_)
+        break;
+    }
+    if (index == 0) {
+      --loops_;
+      broke_ = false;
+      loop_broken_.reset(); // a break leaves this loop only
     }
   }
 
   void exec_while(const Statement &st, Values &vals) {
+    ++loops_;
+    exec_while_body(st, vals);
+    --loops_;
+    loop_broken_.reset();
+  }
+
+  void exec_while_body(const Statement &st, Values &vals) {
     for (long n = 0;; ++n) {
       if (n > kMaxWhileIterations)
         unsupported(st.range, "the while-loop runs more than 100000 times");

@@ -88,3 +88,18 @@ TEST_CASE("algorithms: sensitivities through the branches and the table equal fi
     }
   }
 }
+
+TEST_CASE("a for-loop left by a break under a varying condition (BreakOnSignal)") {
+  auto model = compiled_model("e2e_break_on_signal", {{kData + "algorithms/BreakOnSignal.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  // At t: count = the largest k <= 4 with k (k + 1) / 2 <= 10 t.
+  for (const double t : {0.05, 0.15, 0.35, 0.65, 0.95, 1.2}) {
+    const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, t, 2), tight());
+    INFO(r.message << " at t = " << t);
+    REQUIRE(r.ok());
+    int k = 0;
+    while (k < 4 && (k + 1) * (k + 2) / 2 <= 10 * t) ++k;
+    CHECK(discrete_value(*model, "count") == k);
+    CHECK(discrete_value(*model, "last") == k);
+  }
+}
