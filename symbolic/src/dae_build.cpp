@@ -463,7 +463,7 @@ private:
   bool discrete_initial_assignment(const ast::Equation& eq);
   bool initial_pre(const ast::Equation& eq);
   bool initial_through_pre(const ast::Equation& eq);
-  const ast::Expr* pre_definition(int v) const;
+  const ast::Expr* pre_definition(int v);
   void solve_pre_values();
   void if_equation(const ast::Equation& eq);
   std::optional<std::vector<Expr>> if_residuals(const ast::Equation& eq);
@@ -485,6 +485,11 @@ private:
   std::unordered_set<int> in_progress_;
   std::vector<int> computed_;  ///< Real parameters declared fixed = false
   std::vector<PreEquation> pre_eqs_;  ///< initial equations on pre() values
+  struct PreLinks {
+    std::unordered_map<int, std::vector<int>> equal;        ///< a = b between variables
+    std::unordered_map<int, const ast::Expr*> defines;      ///< every-event right sides
+  };
+  std::optional<PreLinks> pre_links_;  ///< pre_definition()'s, built on first use
   std::optional<ExprConverter> conv_;
   LeafValues param_values_;  ///< default value of every parameter symbol
   std::unordered_map<Expr, VariableInfo*, ExprHash> info_of_;  ///< parameter/input/discrete info
@@ -664,21 +669,24 @@ bool Builder::initial_through_pre(const ast::Equation& eq) {
 /// The right side of the every-event equation of `v` or of a variable equal
 /// to it through equations `a = b` between variables, if exactly one of them
 /// has one; null otherwise (or if a when-clause assigns one of them).
-const ast::Expr* Builder::pre_definition(int v) const {
+const ast::Expr* Builder::pre_definition(int v) {
   const flat::Variable& var = fv(v);
   if (var.type != flat::BaseType::Boolean && var.type != flat::BaseType::Integer &&
       var.variability != ast::Variability::Discrete)
     return nullptr;
-  std::unordered_map<int, std::vector<int>> equal;
-  for (const ast::Equation& eq : f_.equations)
-    if (eq.kind == ast::EquationKind::Simple && eq.lhs->kind == ast::ExprKind::Ref && eq.lhs->var >= 0 &&
-        eq.rhs->kind == ast::ExprKind::Ref && eq.rhs->var >= 0) {
-      equal[eq.lhs->var].push_back(eq.rhs->var);
-      equal[eq.rhs->var].push_back(eq.lhs->var);
-    }
-  std::unordered_map<int, const ast::Expr*> defines;  // variable → its every-event right side
-  for (const auto& [eq, target_left] : event_equations_)
-    defines[(target_left ? eq->lhs : eq->rhs)->var] = (target_left ? eq->rhs : eq->lhs).get();
+  if (!pre_links_) {  // once: equations `a = b` between variables, every-event right sides
+    pre_links_.emplace();
+    for (const ast::Equation& eq : f_.equations)
+      if (eq.kind == ast::EquationKind::Simple && eq.lhs->kind == ast::ExprKind::Ref && eq.lhs->var >= 0 &&
+          eq.rhs->kind == ast::ExprKind::Ref && eq.rhs->var >= 0) {
+        pre_links_->equal[eq.lhs->var].push_back(eq.rhs->var);
+        pre_links_->equal[eq.rhs->var].push_back(eq.lhs->var);
+      }
+    for (const auto& [eq, target_left] : event_equations_)
+      pre_links_->defines[(target_left ? eq->lhs : eq->rhs)->var] = (target_left ? eq->rhs : eq->lhs).get();
+  }
+  auto& equal = pre_links_->equal;
+  const auto& defines = pre_links_->defines;
   std::unordered_set<int> seen{v};
   std::vector<int> work{v};
   const ast::Expr* found = nullptr;
