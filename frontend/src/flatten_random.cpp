@@ -17,8 +17,8 @@
 //   flattened, and a changed seed needs a new translation. A draw in a
 //   when-clause differs at every event: the hidden state becomes discrete
 //   Integers of the model (ModelicaRandom.impureState[1..33], starting where
-//   the translation's draws left it) that the clause steps once per draw;
-//   draws in more than one clause are refused.
+//   the translation's draws left it) that the clause steps once per draw
+//   (at most two); draws in more than one clause are refused.
 #include <unistd.h>
 
 #include <algorithm>
@@ -226,9 +226,13 @@ ExprPtr Flattener::impure_event_draw(SourceRange where) {
   }
   if (impure_branch_ >= 0 && impure_branch_ != when_branch_serial_)
     fail(DiagId::Unsupported, where,
-         "the impure random generator is drawn in more than one when-clause; one clause (with any "
-         "number of draws) is supported");
+         "the impure random generator is drawn in more than one when-clause; one clause is supported");
+  // Each draw's flat state repeats the previous draw's 33 expressions in
+  // each of its own: two draws stay small, more would not.
+  if (impure_branch_ == when_branch_serial_ && ++impure_branch_draws_ > 2)
+    fail(DiagId::Unsupported, where, "a when-clause draws more than twice from the impure random generator");
   if (impure_branch_ < 0) {
+    impure_branch_draws_ = 1;
     impure_branch_ = when_branch_serial_;
     for (const std::int32_t var : impure_vars_) {
       auto pre = std::make_unique<Expr>(ExprKind::Call, where);

@@ -448,6 +448,7 @@ public:
   std::vector<std::int32_t> impure_vars_;         ///< ModelicaRandom.impureState[1..33]
   std::vector<ast::ExprPtr> impure_branch_state_;  ///< the state after this branch's draws
   int impure_branch_ = -1;                         ///< the when-branch that draws, or -1
+  int impure_branch_draws_ = 0;                    ///< its draws so far
   int when_branch_serial_ = 0;                     ///< counts the when-branches flattened
   struct ExternalObject;
   std::map<const Instance *, std::shared_ptr<ExternalObject>> external_objects_;

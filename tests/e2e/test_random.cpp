@@ -141,6 +141,35 @@ TEST_CASE("the impure generator: drawn at translation in initial equations, step
   }
 }
 
+TEST_CASE("the impure generator: two draws in one when-clause; three, or draws in two clauses, refused") {
+  std::uint64_t words[16];
+  for (int i = 0; i < 16; ++i) words[i] = word(11 + 2 * i + 1, 11 + 2 * i + 2);
+  int p = 0;
+  std::vector<double> d;
+  for (int k = 0; k < 4; ++k) d.push_back(star1024(words, p));
+  auto model = compiled_model("e2e_random_impure_twice", {source("RandomNoise.ImpureTwice"), {}});
+  const auto p0 = model->info().default_parameters();
+  for (const double stop : {0.7, 1.2}) {
+    const auto r = runtime::simulate(*model, {}, p0, runtime::OutputGrid::uniform(0, stop, 7), tight());
+    INFO(r.message);
+    REQUIRE(r.ok());
+    const std::size_t first = stop < 1 ? 0 : 2;
+    CHECK(discrete_value(*model, "y1") == d[first]);
+    CHECK(discrete_value(*model, "y2") == d[first + 1]);
+  }
+  for (const auto& [name, message] : std::vector<std::pair<std::string, std::string>>{
+           {"RandomNoise.ImpureThrice", "a when-clause draws more than twice from the impure random generator"},
+           {"RandomNoise.ImpureTwoClauses", "the impure random generator is drawn in more than one when-clause"}}) {
+    frontend::SourceManager sources;
+    frontend::DiagnosticEngine diags(sources);
+    CHECK_FALSE(tools::load_flat_model(source(name), sources, diags));
+    std::ostringstream printed;
+    diags.print(printed);
+    INFO(printed.str());
+    CHECK(printed.str().find(message) != std::string::npos);
+  }
+}
+
 TEST_CASE("the generators' calls: flat calls per output, the translation-time warning, wrong sizes refused") {
   frontend::SourceManager sources;
   frontend::DiagnosticEngine diags(sources);

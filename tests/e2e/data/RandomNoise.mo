@@ -113,6 +113,46 @@ package RandomNoise
     first = impureRandom(id);
   end ImpureDraws;
 
+  // Two draws in one clause: y1, y2 = the next two numbers at each sample.
+  model ImpureTwice
+    parameter Integer seed = 11;
+    final parameter Integer id(fixed = false);
+    discrete Real y1;
+    discrete Real y2;
+  initial equation
+    id = initializeImpure(seed);
+  equation
+    when sample(0.5, 0.5) then
+      y1 = impureRandom(id);
+      y2 = impureRandom(id);
+    end when;
+  end ImpureTwice;
+
+  // Three draws in one clause: refused (each draw repeats the state before).
+  model ImpureThrice
+    parameter Integer seed = 11;
+    final parameter Integer id(fixed = false);
+    discrete Real y[3];
+  initial equation
+    id = initializeImpure(seed);
+  equation
+    when sample(0.5, 0.5) then
+      y[1] = impureRandom(id);
+      y[2] = impureRandom(id);
+      y[3] = impureRandom(id);
+    end when;
+  end ImpureThrice;
+
+  // Draws in two clauses: refused.
+  model ImpureTwoClauses
+    extends ImpureTwice;
+    discrete Real y3;
+  equation
+    when sample(0.25, 0.5) then
+      y3 = impureRandom(id);
+    end when;
+  end ImpureTwoClauses;
+
   // A declaration that does not match ModelicaRandom.h: refused.
   function wrongSize
     input Integer stateIn[3];
