@@ -39,15 +39,6 @@ using ast::ExprPtr;
 
 namespace {
 
-/// The generator that ModelicaExternalC function `c_name` is, or 0.
-int generator_named(const std::string &c_name) {
-  for (const auto g : {random::Generator::Xorshift64star, random::Generator::Xorshift128plus,
-                       random::Generator::Xorshift1024star})
-    if (c_name == random::c_name(g))
-      return static_cast<int>(g);
-  return 0;
-}
-
 /// The position of the formal that argument `k` of the external call names.
 int formal(const ast::ClassDef &def, std::size_t k, const std::vector<std::string> &names) {
   if (k >= def.external_args.size())
@@ -101,7 +92,7 @@ bool Flattener::provided_random(const ast::ClassDef &def, const std::string &fn_
     return static_cast<std::size_t>(o);
   };
   const bool at_events = s.in_when || calls_in_when_ > 0;
-  if (const int g = generator_named(c)) {
+  if (const int g = random::generator_named(c)) {
     // void f(int state_in[], int state_out[], double* y)
     const Tensor state = input(formal(def, 0, inputs));
     const std::size_t to_state = output_slot(formal(def, 1, outputs)), to_y = output_slot(formal(def, 2, outputs));
@@ -259,9 +250,8 @@ ExprPtr Flattener::impure_event_draw(SourceRange where) {
 }
 
 void Flattener::impure_draws_of_branch(std::vector<ast::Equation> &body) {
-  if (impure_branch_ != when_branch_serial_ || impure_branch_state_.empty() ||
-      impure_branch_state_[0]->kind != ExprKind::Call || impure_branch_state_[0]->ref.str() == "pre")
-    return;
+  if (impure_branch_ != when_branch_serial_ || impure_branch_state_.empty())
+    return;  // no draw in this branch (after a draw the state is the stepped one)
   for (std::size_t k = 0; k < impure_vars_.size(); ++k) {
     ast::Equation eq;
     eq.kind = ast::EquationKind::Simple;

@@ -114,19 +114,6 @@ Expr ExprConverter::convert(const ast::Expr& e) {
                  "scalarised by flattening)");
 }
 
-namespace {
-
-/// The generator a flat call of a ModelicaExternalC random function names, or 0.
-int random_generator(std::string_view name) {
-  namespace random = runtime::modelica_random;
-  for (const auto g : {random::Generator::Xorshift64star, random::Generator::Xorshift128plus,
-                       random::Generator::Xorshift1024star})
-    if (name == random::c_name(g)) return static_cast<int>(g);
-  return 0;
-}
-
-}  // namespace
-
 Expr ExprConverter::call(const ast::Expr& e) {
   const std::string name = e.ref.str();
   std::vector<Expr> x;
@@ -157,7 +144,7 @@ Expr ExprConverter::call(const ast::Expr& e) {
     if (p >= 0 && p == std::floor(p)) return a_.smooth(static_cast<int>(p), x[1]);
     return fail(e, "smooth() needs a constant order");
   }
-  if (const int g = random_generator(name); g > 0) {
+  if (const int g = runtime::modelica_random::generator_named(name); g > 0) {
     // ModelicaRandom_xorshift64star(k, state...): output k (flatten_random.cpp)
     namespace random = runtime::modelica_random;
     const std::size_t n = random::state_size(static_cast<random::Generator>(g));

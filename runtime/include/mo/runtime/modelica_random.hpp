@@ -36,6 +36,13 @@ constexpr std::string_view c_name(Generator g) {
   return "";
 }
 
+/// The generator whose ModelicaExternalC name is `name`, as an int; 0 for none.
+constexpr int generator_named(std::string_view name) {
+  for (const auto g : {Generator::Xorshift64star, Generator::Xorshift128plus, Generator::Xorshift1024star})
+    if (name == c_name(g)) return static_cast<int>(g);
+  return 0;
+}
+
 /// The number of Integers in `g`'s state (2, 4, 33: sixteen words and an index).
 constexpr std::size_t state_size(Generator g) {
   switch (g) {
