@@ -109,6 +109,7 @@ constexpr const char* info_builder = R"(mo::runtime::ModelInfo build_info() {
   info.num_event_indicators = ng;
   for (std::size_t i = 0; i < ng; ++i) info.indicator_in_rhs.push_back(indicator_in_rhs[i] != 0);
   for (std::size_t i = 0; i < nu; ++i) info.input_in_initial.push_back(input_in_initial[i] != 0);
+  info.num_delays = ndelay;
   return info;
 }
 
@@ -292,6 +293,22 @@ std::string sample_tables(const Program& p) {
          ints("sample_params", params);
 }
 
+/// Tables of Program::delays (DelayCode).
+std::string delay_tables(const Program& p) {
+  std::vector<Slot> value, argument, time, max;
+  for (const DelayCode& d : p.delays) {
+    value.push_back(d.value);
+    argument.push_back(d.argument);
+    time.push_back(d.time);
+    max.push_back(d.max);
+  }
+  return fmt::format("constexpr std::size_t ndelay = {};\nconstexpr int delay_times_section = {}, "
+                     "delay_arguments_section = {};\n",
+                     p.delays.size(), p.delay_times, p.delay_arguments) +
+         slot_array("delay_value_slot", value) + slot_array("delay_argument_slot", argument) +
+         slot_array("delay_time_slot", time) + slot_array("delay_max_slot", max);
+}
+
 /// Tables of Program::event_tangents (sections -1 and null arrays without events).
 std::string event_tangent_tables(const Program& p) {
   const EventTangentCode& e = p.event_tangents;
@@ -414,7 +431,7 @@ GeneratedSources generate_cpp(OdeModel& model, const CodegenOptions& options) {
       "namespace G = mo::runtime::generated;\n"
       "using SectionFunction = bool (*)(double*, const int*, G::BlockWorkspace&);\n\n",
       n);
-  text += sizes(model, program) + flag_tables(model) + info_tables(model, program) + info_builder + printed.runners +
+  text += sizes(model, program) + delay_tables(program) + flag_tables(model) + info_tables(model, program) + info_builder + printed.runners +
           R"(struct JacobianTables {
   int rows, cols;
   const int* col_start;

@@ -158,7 +158,8 @@ private:
     case ExprKind::Constant:
     case ExprKind::Symbol:
     case ExprKind::Der:
-    case ExprKind::Pre: return value(e);
+    case ExprKind::Pre:
+    case ExprKind::Delay: return value(e);
     case ExprKind::Add:
     case ExprKind::Sub:
     case ExprKind::Neg:

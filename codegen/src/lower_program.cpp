@@ -15,6 +15,7 @@
 #include "mo/symbolic/ode_interpreter.hpp"
 #include "mo/symbolic/event_tangents.hpp"
 #include "mo/symbolic/mixed_order.hpp"
+#include "mo/symbolic/substitute.hpp"
 #include "mo/symbolic/traversal.hpp"
 #include "section_builder.hpp"
 
@@ -150,6 +151,7 @@ public:
     outputs();
     starts();
     samples();
+    delays();
     events();
     if (tangents_) event_tangents();
     jacobians();
@@ -285,6 +287,51 @@ private:
           code.parameters.push_back(arena().symbol_info(leaf).index);
       p_.samples.push_back(std::move(code));
     }
+  }
+
+  /// The Delay leaves of everything the sections compute (and of the
+  /// delayed expressions themselves: delay(delay(x, 1), 1)), by node id.
+  std::vector<Expr> delay_leaves() const {
+    std::vector<Expr> roots;
+    for (const auto& step : m_.steps) {
+      if (const auto* as = std::get_if<symbolic::Assignment>(&step)) {
+        roots.push_back(as->value);
+        continue;
+      }
+      const auto& blk = std::get<symbolic::EquationBlock>(step);
+      roots.insert(roots.end(), blk.residuals.begin(), blk.residuals.end());
+      for (const auto& e : blk.jacobian) roots.push_back(e.value);
+      roots.insert(roots.end(), blk.offset.begin(), blk.offset.end());
+    }
+    for (const auto& y : m_.outputs) roots.push_back(y.value);
+    roots.insert(roots.end(), m_.zero_crossings.begin(), m_.zero_crossings.end());
+    for (const auto& w : m_.whens) {
+      roots.push_back(w.condition);
+      for (const auto& as : w.assignments) roots.push_back(as.value);
+      for (const auto& r : w.reinits) roots.push_back(r.value);
+    }
+    return symbolic::delay_leaves(arena(), roots);
+  }
+
+  /// DelayCode per delay(): T and Tmax over the parameters (and x0, as
+  /// sample() times), the delayed expressions after the steps.
+  void delays() {
+    const std::vector<Expr> found = delay_leaves();
+    if (found.empty()) return;
+    new_section("delay_times", p_.delay_times);
+    auto bt = builder({});
+    for (Expr d : found) {
+      Section& s = p_.sections[static_cast<std::size_t>(p_.delay_times)];
+      DelayCode code;
+      code.value = slots_->of(d);
+      code.time = bt.root(arena().operand(d, 1), s);
+      code.max = bt.root(arena().operand(d, 2), s);
+      p_.delays.push_back(code);
+    }
+    new_section("delay_arguments", p_.delay_arguments);
+    auto ba = builder(after_steps_);
+    for (std::size_t k = 0; k < found.size(); ++k)
+      p_.delays[k].argument = ba.root(arena().operand(found[k], 0), p_.sections[static_cast<std::size_t>(p_.delay_arguments)]);
   }
 
   void events() {

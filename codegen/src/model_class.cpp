@@ -62,8 +62,10 @@ public:
     section_starts();
     for (std::size_t i = 0; i < nx; ++i) x0[i] = w_[static_cast<std::size_t>(start_slots[i])];
     load_samples(x0);
+    if (ndelay > 0) start_delays(t0, u0, p, x0);
     if (initial_flag >= 0 || any_every_event()) initial_event(t0, p, x0);
     if (nsample > 0) sample_event_at_start(t0, p, x0);
+    if (ndelay > 0) record_delays(t0, x0, u0, p, {});
   }
 
   void rhs(double t, std::span<const double> x, std::span<const double> u,
@@ -179,8 +181,28 @@ public:
       while (s + k * h <= t + tolerance) k += 1.0;
       next = std::min(next, s + k * h);
     }
+    if (ndelay > 0) next = std::min(next, delays_.next_event(t));  // a delayed jump arrives
     return next;
   }
+
+  // The delayed expressions at (t, x, u) into the history: the steps, then
+  // the delay_arguments section. An empty u is all 0 (as at initial_state).
+  void record_delays(double t, std::span<const double> x, std::span<const double> u,
+                     std::span<const double> p, std::span<const int> relations_from) override {
+    if (ndelay == 0) return;
+    load(t, x, u, p);
+    if (u.empty()) std::fill(w_.begin() + u_slot, w_.begin() + u_slot + nu, 0.0);
+    if (!relations_from.empty() && event_rhs_section >= 0) {
+      set_relations(relations_from);
+      run(event_rhs_section, relations_.data());
+    } else {
+      section_steps();
+    }
+    run(delay_arguments_section, nullptr);
+    for (std::size_t k = 0; k < ndelay; ++k)
+      delays_.record(k, t, w_[static_cast<std::size_t>(delay_argument_slot[k])]);
+  }
+  double shortest_delay() const override { return delays_.shortest(); }
 
   // pre(d) := d; a when-clause fires if its condition is true now and was
   // false just before (an every-event clause at every call, so that each
@@ -192,6 +214,7 @@ public:
   mo::runtime::EventResponse handle_event(const mo::runtime::EventCause& cause,
                                           std::span<double> x, std::span<const double> u,
                                           std::span<const double> p) override {
+    delays_.at_event(cause.t);
     load(cause.t, x, u, p);
     if (initialising_) set_initial(0.0);  // the conditions just before initialisation
     section_steps();
@@ -363,8 +386,10 @@ public:
 private:
   static std::size_t index(mo::runtime::Jacobian block) { return static_cast<std::size_t>(block); }
 
-  /// Discrete variables, pre() values and Newton guesses to their starts.
+  /// Discrete variables, pre() values and Newton guesses to their starts;
+  /// no delay history.
   void reset() {
+    delays_.reset(ndelay);
     reset_discrete();
     for (std::size_t i = 0; i < nnewton; ++i) w_[static_cast<std::size_t>(newton_slots[i])] = newton_start[i];
     event_time_ = std::numeric_limits<double>::quiet_NaN();
@@ -414,6 +439,31 @@ private:
     for (std::size_t i = 0; i < nsample; ++i) {
       sample_start_[i] = w_[static_cast<std::size_t>(sample_start_slot[i])];
       sample_interval_[i] = w_[static_cast<std::size_t>(sample_interval_slot[i])];
+    }
+  }
+  // delay(e, T, Tmax) at the start: T and Tmax from the parameters (and x0),
+  // and e(t0), which the delays read until the first record (MLS 3.7.2.4).
+  // e may read a delay (a transmission line's two ends): a fixed-point
+  // iteration from 0, a few passes.
+  void start_delays(double t0, std::span<const double> u0, std::span<const double> p,
+                    std::span<const double> x0) {
+    std::copy(x0.begin(), x0.end(), w_.begin() + x_slot);
+    run(delay_times_section, nullptr);
+    for (std::size_t k = 0; k < ndelay; ++k)
+      delays_.set_times(k, w_[static_cast<std::size_t>(delay_time_slot[k])],
+                        w_[static_cast<std::size_t>(delay_max_slot[k])]);
+    for (int pass = 0; pass < 20; ++pass) {
+      load(t0, x0, u0, p);
+      if (u0.empty()) std::fill(w_.begin() + u_slot, w_.begin() + u_slot + nu, 0.0);
+      section_steps();
+      run(delay_arguments_section, nullptr);
+      bool moved = false;
+      for (std::size_t k = 0; k < ndelay; ++k) {
+        const double e = w_[static_cast<std::size_t>(delay_argument_slot[k])];
+        moved = moved || !(e == delays_.value(k, t0));
+        delays_.set_start(k, e);
+      }
+      if (!moved) break;
     }
   }
   // True if t is start + k*interval (k >= 0) of sample i, within rounding;
@@ -482,6 +532,7 @@ private:
     std::copy(p.begin(), p.end(), w_.begin() + p_slot);
     w_[t_slot] = t;
     for (std::size_t i = 0; i < nd; ++i) w_[pre_d_slot + i] = w_[d_slot + i];
+    for (std::size_t k = 0; k < ndelay; ++k) w_[static_cast<std::size_t>(delay_value_slot[k])] = delays_.value(k, t);
     ws_.time = t;
     ws_.failure.clear();
   }
@@ -579,6 +630,7 @@ private:
   bool samples_raised_ = false;  ///< some sample() flag is 1 (an instant with ticks is being handled)
   double event_time_ = std::numeric_limits<double>::quiet_NaN();
   bool initialising_ = false;
+  mo::runtime::DelayLines delays_;  ///< the history of every delay() (ndelay lines)
 };
 )";
 

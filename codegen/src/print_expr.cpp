@@ -51,6 +51,7 @@ std::string node_code(const symbolic::ExprArena& ar, const Program& p, const Ins
   case ExprKind::Symbol:
   case ExprKind::Der:
   case ExprKind::Pre:
+  case ExprKind::Delay:  // loaded from the history (DelayCode)
     throw std::logic_error("internal error: code generation: a leaf as an instruction");
   case ExprKind::Add: value = o[0] + " + " + o[1]; break;
   case ExprKind::Sub: value = o[0] + " - " + o[1]; break;

@@ -44,7 +44,8 @@ std::string cache_key(const GeneratedSources& s, const CompilerOptions& o) {
   for (const auto& f : o.link_flags) all += f + "\n";
   for (const auto& d : o.include_dirs) {
     all += d + "\n";
-    for (const char* h : {"mo/runtime/model.hpp", "mo/runtime/generated_support.hpp", "mo/runtime/modelica_random.hpp"})
+    for (const char* h : {"mo/runtime/model.hpp", "mo/runtime/generated_support.hpp", "mo/runtime/modelica_random.hpp",
+                          "mo/runtime/delay_lines.hpp"})
       if (fs::exists(fs::path(d) / h)) all += read_file(fs::path(d) / h);
   }
   for (const auto& f : s.files) all += f.path + "\n" + std::to_string(f.text.size()) + "\n" + f.text;

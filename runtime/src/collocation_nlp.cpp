@@ -57,6 +57,11 @@ CollocationNlp::CollocationNlp(const Model& model, NlpSetup setup,
   if (setup_.parameters.empty()) setup_.parameters = info.default_parameters();
   if (setup_.collocation.n_e < 1) throw ProblemError("n_e must be at least 1");
   if (experiments.empty()) throw ProblemError("no experiment to transcribe");
+  // The collocation equations relate each element's own points; a value at
+  // t − T from another element would be a new kind of constraint.
+  if (info.num_delays > 0)
+    throw ProblemError("model '" + info.name + "' calls delay(): collocation (optimal control, "
+                       "estimation, design) does not support delays; simulate it instead");
   poly_ = make_collocation_polynomials(setup_.collocation.scheme == CollocationScheme::radau
                                            ? NodeFamily::radau
                                            : NodeFamily::gauss,

@@ -347,6 +347,13 @@ std::string Simulation::validate() const {
        sens.method == SensitivityMethod::cvodes_difference) &&
       sens.parameters.empty())
     return "CVODES sensitivities need a non-empty parameter list";
+  // CVODES' f_x s + f_p misses the delayed sensitivities: the compiled
+  // sensitivity states carry them (delay(∂e/∂p, T)).
+  if (info_.num_delays > 0 && (sens.method == SensitivityMethod::cvodes_analytic ||
+                               sens.method == SensitivityMethod::cvodes_difference))
+    return fmt::format("model '{}' calls delay(): its sensitivities need the compiled sensitivity "
+                       "states (mocompile --sensitivities), not CVODES' own",
+                       info_.name);
   return {};
 }
 
@@ -434,13 +441,25 @@ bool Simulation::set_up() {
     atol.data()[i] = options_.absolute_tolerance * std::abs(info_.states[i].nominal);
   CVodeSVtolerances(cv, options_.relative_tolerance, atol.v);
   CVodeSetMaxNumSteps(cv, options_.max_steps);
-  if (options_.max_step > 0.0) {
-    CVodeSetMaxStep(cv, options_.max_step);
-  } else if (nx_ == 0 && grid_.times.size() > 1) {
+  double max_step = options_.max_step;
+  if (!(max_step > 0.0) && nx_ == 0 && grid_.times.size() > 1) {
     // Without states nothing limits the step: keep the algebraic solves (and
     // their Newton guesses) near the output times, one interval at a time.
-    CVodeSetMaxStep(cv, (grid_.times.back() - t0) / static_cast<double>(grid_.times.size() - 1));
+    max_step = (grid_.times.back() - t0) / static_cast<double>(grid_.times.size() - 1);
   }
+  if (info_.num_delays > 0) {
+    // Every point t − T a step reads lies in the recorded past.
+    const double shortest = model_.shortest_delay();
+    if (!(shortest > 0.0)) {
+      fail(SimulationStatus::invalid_problem,
+           fmt::format("model '{}': a delay() has a delay time that is not positive, or exceeds its "
+                       "delayMax, at these parameters",
+                       info_.name));
+      return false;
+    }
+    max_step = max_step > 0.0 ? std::min(max_step, shortest) : shortest;
+  }
+  if (max_step > 0.0) CVodeSetMaxStep(cv, max_step);
 
   cvode_.matrix = SUNDenseMatrix(n, n, context_.ctx);
   cvode_.solver = SUNLinSol_Dense(x_->v, cvode_.matrix, context_.ctx);
@@ -567,15 +586,14 @@ bool Simulation::handle_event(double t, std::span<const int> crossings, bool tim
   changed = false;
   bool terminate = false;
   std::optional<detail::SensitivityJump> jump;
+  // Without event tangents only an event that changes nothing (a time event
+  // of delay(), a model without when-clauses) keeps the sensitivities.
+  bool without_tangents = false;
   if (sens_method_ != SensitivityMethod::none && !sens_params_.empty()) {
-    if (!model_.provides_event_tangents()) {
-      fail(SimulationStatus::invalid_problem,
-           fmt::format("event at t = {}: model '{}' gives no event tangents, so its "
-                       "sensitivities cannot be carried through events",
-                       t, info_.name));
-      return false;
-    }
-    jump.emplace(model_, t, states(), u_, p_, crossings, sensitivities(), sens_params_);
+    if (model_.provides_event_tangents())
+      jump.emplace(model_, t, states(), u_, p_, crossings, sensitivities(), sens_params_);
+    else
+      without_tangents = true;
   }
   for (int iteration = 0;; ++iteration) {
     if (iteration == options_.max_event_iterations) {
@@ -591,6 +609,13 @@ bool Simulation::handle_event(double t, std::span<const int> crossings, bool tim
     terminate = terminate || response.terminate;
     if (!response.discrete_changed) break;
     cause = EventCause{t, {}, false};
+  }
+  if (without_tangents && changed) {
+    fail(SimulationStatus::invalid_problem,
+         fmt::format("event at t = {}: model '{}' gives no event tangents, so its "
+                     "sensitivities cannot be carried through events",
+                     t, info_.name));
+    return false;
   }
   if (changed || time_event || terminate) {
     result_.event_times.push_back(t);
@@ -706,6 +731,54 @@ SimulationResult Simulation::run() {
     while (next_out < times.size() && reached(times[next_out], t)) record(times[next_out++]);
   };
   record_through(t0);
+  // A model with delay() takes one step at a time: each accepted step adds
+  // to the delays' history, and the output times it passed are read from its
+  // interpolant (CVodeGetDky). The history's cubic interpolation is no more
+  // accurate than its points are dense: a step of order q adds q - 1 points
+  // inside it from the same interpolant (a smooth solution lets BDF take
+  // steps far longer than a cubic through their ends can follow). Before and
+  // after an event's handler the history gets the values before and after it.
+  const bool one_step = info_.num_delays > 0;
+  std::vector<double> x_keep;
+  auto record_passed = [&](double t) {
+    // Output times before t (not within rounding of it: record_through's).
+    while (next_out < times.size() && !reached(t, times[next_out])) {
+      const double t_out = times[next_out++];
+      x_keep.assign(x_->data(), x_->data() + nx_);
+      if (CVodeGetDky(cvode_.mem, t_out, 0, x_->v) == CV_SUCCESS) record(t_out);
+      std::copy(x_keep.begin(), x_keep.end(), x_->data());
+    }
+  };
+  // At a state event the relations on the crossed indicators take their
+  // values from the crossing: before the handler as before it, after as after.
+  std::vector<int> relations;
+  double recorded = t0;  // the history's last time
+  auto record_inside = [&](double t) {
+    int order = 1;
+    double step = 0.0;
+    if (CVodeGetLastOrder(cvode_.mem, &order) != CV_SUCCESS || CVodeGetLastStep(cvode_.mem, &step) != CV_SUCCESS) return;
+    const double from = std::max(recorded, t - step);
+    x_keep.assign(x_->data(), x_->data() + nx_);
+    for (int i = 1; i < order; ++i) {
+      const double ti = from + (t - from) * i / order;
+      if (CVodeGetDky(cvode_.mem, ti, 0, x_->v) != CV_SUCCESS) continue;
+      evaluate_inputs(ti);
+      model_.record_delays(ti, states(), u_, p_, {});
+    }
+    std::copy(x_keep.begin(), x_keep.end(), x_->data());
+  };
+  auto record_delays = [&](double t, bool after_event, std::span<const int> crossings = {}) {
+    if (!one_step) return;
+    if (after_event)
+      inputs_.evaluate(t, u_);
+    else
+      evaluate_inputs(t);
+    relations.assign(crossings.size(), 0);
+    for (std::size_t i = 0; i < crossings.size(); ++i)
+      if (std::abs(crossings[i]) == 1) relations[i] = after_event ? crossings[i] : -crossings[i];
+    model_.record_delays(t, states(), u_, p_, relations);
+    recorded = t;
+  };
 
   const std::vector<double> breakpoints = inputs_.breakpoints(t0, t_end);
   std::size_t next_bp = 0;
@@ -725,7 +798,7 @@ SimulationResult Simulation::run() {
     for (;;) {  // integrate until t_stop or a state event
       double t_out = std::min(times[next_out], t_stop);
       double t_ret = t;
-      int flag = CVode(cv, t_out, x_->v, &t_ret, CV_NORMAL);
+      int flag = CVode(cv, t_out, x_->v, &t_ret, one_step ? CV_ONE_STEP : CV_NORMAL);
       // Continued past a root without a restart, CVODES refuses an indicator
       // that is exactly 0 there and just after (CV_ILL_INPUT, "Root found at
       // and very near"): a restart makes it inactive until it leaves 0.
@@ -741,14 +814,21 @@ SimulationResult Simulation::run() {
       }
       t = t_ret;
       if (s_) CVodeGetSens(cv, &t_ret, s_->v);
+      if (one_step) {
+        record_passed(t);
+        record_inside(t);
+      }
+      if (flag != CV_ROOT_RETURN) record_delays(t, false);
       if (flag == CV_ROOT_RETURN) {
         CVodeGetRootInfo(cv, roots.data());
         held_crossings(t, roots);
+        record_delays(t, false, roots);
         bool changed = false;
         if (!handle_event(t, roots, false, changed)) {
           record_through(t);
           return finish();
         }
+        record_delays(t, true, roots);
         // Restart even if nothing discrete changed: a relation in the
         // continuous equations switched at this root, and CVODES' last step
         // (already taken past the root) used the right-hand side of before.
@@ -780,6 +860,7 @@ SimulationResult Simulation::run() {
         record_through(t);
         return finish();
       }
+      record_delays(t, true);
       if (t < t_end && !restart(t)) return finish();
       record_through(t);
       break;

@@ -153,6 +153,17 @@ Expr ExprConverter::call(const ast::Expr& e) {
       return fail(e, fmt::format("'{}' needs a constant output index from 0 to {} and {} state values", name, n, n));
     return a_.external(g * random::kCodeBase + static_cast<int>(k), std::span(x).subspan(1));
   }
+  // delay(e, T) and delay(e, T, Tmax) (MLS 3.7.2.4): T > 0 is checked when
+  // the simulation starts, where its value is known. A delay time that
+  // varies in time (MLS allows one below Tmax) is not supported.
+  if (name == "delay" && (need(2) || need(3))) {
+    for (std::size_t i = 1; i < x.size(); ++i)
+      for (Expr leaf : leaves(a_, std::span(&x[i], 1)))
+        if (a_.kind(leaf) != ExprKind::Symbol || a_.symbol_info(leaf).role != SymbolRole::Parameter)
+          return fail(*e.args[i], "delay(): the delay time must be a parameter expression; a delay "
+                                  "time that varies in time is not supported");
+    return a_.delay(x[0], x[1], x.size() == 3 ? x[2] : x[1]);
+  }
   if (name == "initial" && initial_) return initial_();
   if (name == "initial" || name == "terminal") return a_.constant(0.0);
   if (name == "der" && need(1)) return der_(*e.args[0]);
@@ -183,6 +194,11 @@ Expr time_derivative(Dae& dae, Expr e, bool& input_hit, bool initial) {
   ExprArena& a = dae.arena;
   ExprMap seeds;
   for (Expr leaf : leaves(a, std::span(&e, 1))) {
+    if (a.kind(leaf) == ExprKind::Delay) {  // d/dt delay(d, T) = delay(d/dt d, T): T is a parameter
+      const Expr rate = time_derivative(dae, a.operand(leaf, 0), input_hit, initial);
+      seeds[leaf] = a.delay(rate, a.operand(leaf, 1), a.operand(leaf, 2));
+      continue;
+    }
     if (a.kind(leaf) != ExprKind::Symbol) continue;
     const SymbolInfo info = a.symbol_info(leaf);
     if (info.role == SymbolRole::Time) {

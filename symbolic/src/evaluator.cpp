@@ -64,7 +64,8 @@ void Evaluator::evaluate(std::span<const double> leaf_values, std::span<double> 
     case ExprKind::Constant: work[slot] = constants_[ins.operand[0]]; break;
     case ExprKind::Symbol:
     case ExprKind::Der:
-    case ExprKind::Pre: break; // written from leaf_values above
+    case ExprKind::Pre:
+    case ExprKind::Delay: break; // written from leaf_values above
     case ExprKind::ArgList: work[slot] = work[ins.operand[0]]; break;
     case ExprKind::External: {
       std::vector<double> args;

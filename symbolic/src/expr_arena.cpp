@@ -154,7 +154,7 @@ bool ExprArena::is_constant(Expr e, double value) const {
 
 bool ExprArena::is_leaf(Expr e) const {
   const ExprKind k = kind(e);
-  return k == ExprKind::Symbol || k == ExprKind::Der || k == ExprKind::Pre;
+  return k == ExprKind::Symbol || k == ExprKind::Der || k == ExprKind::Pre || k == ExprKind::Delay;
 }
 
 const SymbolInfo& ExprArena::symbol_info(Expr e) const {

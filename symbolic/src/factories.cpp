@@ -62,6 +62,7 @@ bool is_unary_function(ExprKind kind) {
   case ExprKind::Smooth:
   case ExprKind::ArgList:
   case ExprKind::External:
+  case ExprKind::Delay:
     return false;
   }
   return false;
@@ -220,6 +221,11 @@ Expr ExprArena::external(int code, std::span<const Expr> args) {
   return intern(ExprKind::External, constant(code), list);
 }
 
+Expr ExprArena::delay(Expr e, Expr delay_time, Expr delay_max) {
+  if (is_constant(e)) return e;
+  return intern(ExprKind::Delay, e, delay_time, delay_max);
+}
+
 std::vector<Expr> ExprArena::external_args(Expr e) const {
   std::vector<Expr> out;
   for (Expr cell = operand(e, 1); kind(cell) == ExprKind::ArgList; cell = operand(cell, 1))
@@ -326,6 +332,7 @@ Expr ExprArena::make(ExprKind k, std::span<const Expr> ops) {
   case ExprKind::Or: return logical_or(ops[0], ops[1]);
   case ExprKind::Not: return logical_not(ops[0]);
   case ExprKind::ArgList: return intern(ExprKind::ArgList, ops[0], ops[1]);
+  case ExprKind::Delay: return delay(ops[0], ops[1], ops[2]);
   case ExprKind::External: {
     if (!is_constant(ops[0])) throw std::invalid_argument("external(): the code must be a constant");
     std::vector<Expr> args;

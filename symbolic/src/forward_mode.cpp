@@ -25,6 +25,7 @@ Expr forward_rule(ExprArena& A, Expr e, const Expr* x, const Expr* d) {
   case ExprKind::Symbol:
   case ExprKind::Der:
   case ExprKind::Pre:
+  case ExprKind::Delay:
     throw std::logic_error("internal error: forward_rule on a leaf");
   case ExprKind::Add: return A.add(d[0], d[1]);
   case ExprKind::Sub: return A.sub(d[0], d[1]);

@@ -74,18 +74,19 @@ private:
     for (const OdeAlgebraic& y : m_.algebraics) add_unknown(y.symbol, guess_of(y.symbol));
   }
 
+  /// The model's equations at t0, where delay(e) is e (undelayed()).
   void rows() {
     for (const Step& s : m_.steps) {
       if (const auto* as = std::get_if<Assignment>(&s)) {
-        rows_.push_back({a_.sub(as->target, as->value), RowKind::Model, as->origin, {}, 0});
+        rows_.push_back({undelayed(a_, a_.sub(as->target, as->value)), RowKind::Model, as->origin, {}, 0});
         continue;
       }
       const auto& b = std::get<EquationBlock>(s);
       for (std::size_t i = 0; i < b.residuals.size(); ++i)
-        rows_.push_back({b.residuals[i], RowKind::Model, i < b.origins.size() ? b.origins[i] : "", {}, 0});
+        rows_.push_back({undelayed(a_, b.residuals[i]), RowKind::Model, i < b.origins.size() ? b.origins[i] : "", {}, 0});
     }
     for (const InitialEquation& e : in_.equations)
-      rows_.push_back({e.residual, RowKind::Initial, e.origin, e.range, 0});
+      rows_.push_back({undelayed(a_, e.residual), RowKind::Initial, e.origin, e.range, 0});
     for (std::size_t i = 0; i < m_.states.size(); ++i) {
       const OdeState& x = m_.states[i];
       const RowKind k = x.fixed ? RowKind::Fixed : RowKind::StartGuess;

@@ -123,7 +123,8 @@ int level(const ExprArena& arena, Expr e) {
   case ExprKind::NoEvent:
   case ExprKind::Smooth:
   case ExprKind::ArgList:
-  case ExprKind::External: return kPrimary;
+  case ExprKind::External:
+  case ExprKind::Delay: return kPrimary;
   }
   return kPrimary;
 }
@@ -167,7 +168,9 @@ private:
   void call(Expr e) {
     text(kind_spelling(arena_.kind(e)));
     text("(");
-    const std::size_t n = arity(arena_.kind(e));
+    std::size_t n = arity(arena_.kind(e));
+    // delay(e, T): delayMax is T unless the call gave another.
+    if (arena_.kind(e) == ExprKind::Delay && arena_.operand(e, 1) == arena_.operand(e, 2)) n = 2;
     for (std::size_t i = 0; i < n; ++i) {
       if (i > 0) text(", ");
       operand(arena_.operand(e, i), kIf);
@@ -265,7 +268,8 @@ private:
     case ExprKind::Ceil:
     case ExprKind::NoEvent:
     case ExprKind::Smooth:
-    case ExprKind::ArgList: call(e); break;
+    case ExprKind::ArgList:
+    case ExprKind::Delay: call(e); break;
     case ExprKind::External: external(e); break;
     }
     flush();

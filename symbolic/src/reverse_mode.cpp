@@ -58,6 +58,7 @@ private:
     case ExprKind::Symbol:
     case ExprKind::Der:
     case ExprKind::Pre:
+    case ExprKind::Delay:
       throw std::logic_error("internal error: adjoint propagation from a leaf");
     case ExprKind::Add:
       pass(e, 0, [&] { return w; });

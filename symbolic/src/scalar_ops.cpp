@@ -17,6 +17,7 @@ double apply_scalar(ExprKind kind, double a, double b, double c) {
   case ExprKind::Symbol:
   case ExprKind::Der:
   case ExprKind::Pre:
+  case ExprKind::Delay:
     throw std::logic_error("internal error: apply_scalar on leaf kind " +
                            std::string(kind_name(kind)));
   case ExprKind::ArgList:

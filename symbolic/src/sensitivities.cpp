@@ -6,6 +6,8 @@
 
 #include "mo/symbolic/differentiate.hpp"
 #include "mo/symbolic/directional.hpp"
+#include "mo/symbolic/printer.hpp"
+#include "mo/symbolic/substitute.hpp"
 #include "mo/symbolic/traversal.hpp"
 
 namespace mo::symbolic {
@@ -19,6 +21,18 @@ struct StepLeaves {
   std::vector<Expr> used;
 };
 
+/// The leaves of `roots` and, for dependencies, those of their delayed
+/// expressions: delay(e) varies with a parameter that e's past varies with.
+std::vector<Expr> leaves_through_delays(const ExprArena& a, std::span<const Expr> roots) {
+  std::vector<Expr> out = leaves(a, roots);
+  for (Expr d : delay_leaves(a, roots)) {
+    const Expr e = a.operand(d, 0);
+    const std::vector<Expr> more = leaves(a, std::span(&e, 1));
+    out.insert(out.end(), more.begin(), more.end());
+  }
+  return out;
+}
+
 std::vector<StepLeaves> step_leaves(const OdeModel& m) {
   std::vector<StepLeaves> out;
   out.reserve(m.steps.size());
@@ -26,11 +40,11 @@ std::vector<StepLeaves> step_leaves(const OdeModel& m) {
     StepLeaves sl;
     if (const auto* a = std::get_if<Assignment>(&s)) {
       sl.targets = {a->target};
-      sl.used = leaves(m.arena, std::span(&a->value, 1));
+      sl.used = leaves_through_delays(m.arena, std::span(&a->value, 1));
     } else {
       const auto& b = std::get<EquationBlock>(s);
       sl.targets = b.unknowns;
-      sl.used = leaves(m.arena, b.residuals);
+      sl.used = leaves_through_delays(m.arena, b.residuals);
     }
     out.push_back(std::move(sl));
   }
@@ -64,12 +78,31 @@ bool touches_events(const OdeModel& m, const std::unordered_set<Expr, ExprHash>&
     roots.push_back(smp.start);
     roots.push_back(smp.interval);
   }
-  for (Expr l : leaves(m.arena, roots)) {
+  for (Expr l : leaves_through_delays(m.arena, roots)) {
     // pre(v) of a continuous v is v's value at the event.
     const Expr v = m.arena.kind(l) == ExprKind::Pre ? m.arena.operand(l, 0) : l;
     if (reached.count(l) || reached.count(v)) return true;
   }
   return false;
+}
+
+/// The event map's derivatives (event_tangents.hpp) take a delay() as a
+/// constant: refused where the delayed value depends on the parameter.
+void check_event_delays(const OdeModel& m, const std::unordered_set<Expr, ExprHash>& reached) {
+  std::vector<Expr> roots(m.zero_crossings);
+  for (const WhenClause& w : m.whens) {
+    roots.push_back(w.condition);
+    for (const Assignment& a : w.assignments) roots.push_back(a.value);
+    for (const Reinit& r : w.reinits) roots.push_back(r.value);
+  }
+  for (Expr d : delay_leaves(m.arena, roots)) {
+    const Expr e = m.arena.operand(d, 0);
+    for (Expr l : leaves_through_delays(m.arena, std::span(&e, 1)))
+      if (reached.count(l))
+        throw std::invalid_argument("sensitivities: " + to_modelica(m.arena, d) +
+                                    " in an event condition, a when-clause or a reinit depends on the "
+                                    "parameter; sensitivities through it are not supported");
+  }
 }
 
 /// The base states whose value depends on parameter symbol `p`: a worklist
@@ -109,7 +142,10 @@ std::vector<bool> influenced_states(const OdeModel& m, const std::vector<StepLea
   // a parameter that reaches an indicator, a when-condition, a reinit or a
   // discrete assignment moves the event or its effect, and through the jump
   // any state. All base states then get sensitivities (a superset).
-  if (touches_events(m, reached)) std::fill(hit.begin(), hit.end(), true);
+  if (touches_events(m, reached)) {
+    check_event_delays(m, reached);
+    std::fill(hit.begin(), hit.end(), true);
+  }
   return hit;
 }
 
@@ -122,6 +158,68 @@ struct Additions {
   std::vector<Step> initial_steps;  ///< ∂/∂p of the initial system's blocks
   std::vector<OdeAlgebraic> initial_unknowns;
 };
+
+/// delay(e, T, Tmax) along a parameter is delay(∂e, T, Tmax), T not
+/// depending on it. ∂e is known only after the steps are differentiated, so
+/// they are differentiated with a placeholder symbol per delay, replaced by
+/// DelayedDerivatives::replace afterwards.
+struct DelayedDerivatives {
+  std::vector<Expr> delays, placeholders;  ///< ascending delay ids
+
+  DelayedDerivatives(OdeModel& m, const OdeParameter& par, ExprMap& seeds) {
+    std::vector<Expr> roots;
+    for (const Step& s : m.steps) {
+      if (const auto* as = std::get_if<Assignment>(&s)) {
+        roots.push_back(as->value);
+      } else {
+        const auto& b = std::get<EquationBlock>(s);
+        roots.insert(roots.end(), b.residuals.begin(), b.residuals.end());
+      }
+    }
+    for (const OdeOutput& y : m.outputs) roots.push_back(y.value);
+    ExprArena& a = m.arena;
+    for (Expr d : delay_leaves(a, roots)) {
+      const Expr times[] = {a.operand(d, 1), a.operand(d, 2)};
+      for (Expr l : leaves(a, times))
+        if (l == par.symbol)
+          throw std::invalid_argument("sensitivities: the delay time of " + to_modelica(a, d) +
+                                      " depends on parameter " + par.info.name +
+                                      "; sensitivities to a delay time are not supported");
+      const Expr p = a.symbol(sensitivity_name("$delay" + std::to_string(d.id()), par.info.name),
+                              SymbolRole::Algebraic, -1);
+      delays.push_back(d);
+      placeholders.push_back(p);
+      seeds[d] = p;
+    }
+  }
+
+  /// The placeholders → delay(∂e, T, Tmax), ∂e along `d`; inner delays first.
+  ExprMap replacements(OdeModel& m, const Directional& d) const {
+    ExprMap out;
+    ExprArena& a = m.arena;
+    for (std::size_t k = 0; k < delays.size(); ++k) {
+      const Expr de = substitute(a, derivative_along(m, d, a.operand(delays[k], 0)), out);
+      out[placeholders[k]] = a.delay(de, a.operand(delays[k], 1), a.operand(delays[k], 2));
+    }
+    return out;
+  }
+};
+
+void replace_in_steps(ExprArena& a, std::vector<Step>& steps, const ExprMap& map) {
+  if (map.empty()) return;
+  std::vector<Expr*> targets;
+  for (Step& s : steps) {
+    if (auto* as = std::get_if<Assignment>(&s)) {
+      targets.push_back(&as->value);
+      continue;
+    }
+    auto& b = std::get<EquationBlock>(s);
+    for (Expr& e : b.residuals) targets.push_back(&e);
+    for (BlockEntry& e : b.jacobian) targets.push_back(&e.value);
+    for (Expr& e : b.offset) targets.push_back(&e);
+  }
+  substitute_in_place(a, targets, map);
+}
 
 void add_for_parameter(OdeModel& m, const std::vector<StepLeaves>& steps, const Users& u,
                        std::size_t k, std::size_t nx, std::size_t ny, Additions& add) {
@@ -156,21 +254,25 @@ void add_for_parameter(OdeModel& m, const std::vector<StepLeaves>& steps, const 
     new_states.push_back(m.states.size());
     m.states.push_back(std::move(s));
   }
-  const Directional d = differentiate_steps(
+  const DelayedDerivatives delayed(m, par, seeds);
+  Directional d = differentiate_steps(
       m, seeds, [&](const std::string& v) { return sensitivity_name(v, par.info.name); });
+  const ExprMap delay_map = delayed.replacements(m, d);
+  auto replaced = [&](Expr e) { return delay_map.empty() ? e : substitute(a, e, delay_map); };
+  replace_in_steps(a, d.steps, delay_map);
   add.steps.insert(add.steps.end(), d.steps.begin(), d.steps.end());
   add.algebraics.insert(add.algebraics.end(), d.symbols.begin(), d.symbols.end());
   for (std::size_t si : new_states) {
     const OdeState& s = m.states[si];
     const auto it = d.derivative.find(m.states[s.sensitivity->state].derivative);
     add.steps.emplace_back(
-        Assignment{s.derivative, it == d.derivative.end() ? a.constant(0.0) : it->second});
+        Assignment{s.derivative, it == d.derivative.end() ? a.constant(0.0) : replaced(it->second)});
   }
   for (std::size_t j = 0; j < ny; ++j) {
     OdeOutput y;
     y.info.name = sensitivity_name(m.outputs[j].info.name, par.info.name);
     y.info.description = "sensitivity of output " + m.outputs[j].info.name;
-    y.value = derivative_along(m, d, m.outputs[j].value);
+    y.value = replaced(derivative_along(m, d, m.outputs[j].value));
     add.outputs.push_back(std::move(y));
   }
 }

@@ -28,6 +28,7 @@ bool breaks_affinity(ExprKind k) {
     case ExprKind::Ceil: case ExprKind::ArgList: case ExprKind::External:
       return true;
     case ExprKind::Constant: case ExprKind::Symbol: case ExprKind::Der: case ExprKind::Pre:
+    case ExprKind::Delay:
     case ExprKind::Add: case ExprKind::Sub: case ExprKind::Mul: case ExprKind::Div:
     case ExprKind::Neg: case ExprKind::Pow: case ExprKind::Sin: case ExprKind::Cos:
     case ExprKind::Tan: case ExprKind::Asin: case ExprKind::Acos: case ExprKind::Atan:

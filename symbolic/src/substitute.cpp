@@ -1,5 +1,6 @@
 #include "mo/symbolic/substitute.hpp"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -62,6 +63,31 @@ void substitute_in_place(ExprArena& arena, std::span<Expr* const> targets,
 
 Expr substitute(ExprArena& arena, Expr e, const ExprMap& replacements) {
   return substitute(arena, std::span<const Expr>(&e, 1), replacements).front();
+}
+
+std::vector<Expr> delay_leaves(const ExprArena& arena, std::span<const Expr> roots) {
+  std::vector<Expr> found;
+  detail::NodeSet seen(16);
+  std::vector<Expr> work(roots.begin(), roots.end());
+  while (!work.empty()) {
+    std::vector<Expr> next;
+    for (Expr leaf : leaves(arena, work))
+      if (arena.kind(leaf) == ExprKind::Delay && seen.insert(leaf)) {
+        found.push_back(leaf);
+        next.push_back(arena.operand(leaf, 0));
+      }
+    work = std::move(next);
+  }
+  std::sort(found.begin(), found.end());
+  return found;
+}
+
+Expr undelayed(ExprArena& arena, Expr e) {
+  const std::vector<Expr> delays = delay_leaves(arena, std::span(&e, 1));
+  if (delays.empty()) return e;
+  ExprMap start;  // ascending ids: a delayed expression's own delays come first
+  for (Expr d : delays) start[d] = substitute(arena, arena.operand(d, 0), start);
+  return substitute(arena, e, start);
 }
 
 } // namespace mo::symbolic

@@ -8,7 +8,8 @@ namespace mo::symbolic {
 
 namespace {
 
-// Reachable nodes; when `stop_at_leaves`, the operand of der/pre is skipped.
+// Reachable nodes; when `stop_at_leaves`, the operand of der/pre is skipped,
+// and the delayed expression of a delay() (its delay times are visited).
 std::vector<Expr> reachable(const ExprArena& arena, std::span<const Expr> roots,
                             bool stop_at_leaves) {
   detail::NodeSet seen(roots.size() * 4);
@@ -19,7 +20,13 @@ std::vector<Expr> reachable(const ExprArena& arena, std::span<const Expr> roots,
     stack.pop_back();
     if (!seen.insert(e)) continue;
     found.push_back(e);
-    if (stop_at_leaves && arena.is_leaf(e)) continue;
+    if (stop_at_leaves && arena.is_leaf(e)) {
+      if (arena.kind(e) == ExprKind::Delay) {
+        stack.push_back(arena.operand(e, 1));
+        stack.push_back(arena.operand(e, 2));
+      }
+      continue;
+    }
     const std::size_t n = arity(arena.kind(e));
     for (std::size_t i = 0; i < n; ++i) stack.push_back(arena.operand(e, i));
   }

@@ -42,6 +42,10 @@ KindCase case_for(ExprArena& A, ExprKind kind) {
   case ExprKind::Symbol: return {x, x, y, -2, 2, zeros};
   case ExprKind::Der: return {A.mul(A.der(x), A.sin(y)), A.der(x), y, -2, 2, zeros};
   case ExprKind::Pre: return {A.mul(A.pre(x), A.cos(y)), A.pre(x), y, -2, 2, zeros};
+  case ExprKind::Delay: {  // a recorded value, a leaf as pre() is
+    const Expr d = A.delay(A.sin(x), A.constant(1), A.constant(1));
+    return {A.mul(d, A.cos(y)), d, y, -2, 2, zeros};
+  }
   case ExprKind::Add: return {A.add(A.sin(x), y), x, y, -2, 2, zeros};
   case ExprKind::Sub: return {A.sub(A.sin(x), y), x, y, -2, 2, zeros};
   case ExprKind::Mul: return {A.mul(A.sin(x), y), x, y, -2, 2, zeros};

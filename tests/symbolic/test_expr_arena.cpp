@@ -9,6 +9,8 @@
 #include "mo/symbolic/evaluator.hpp"
 #include "mo/symbolic/expr_arena.hpp"
 #include "mo/symbolic/printer.hpp"
+#include "mo/symbolic/substitute.hpp"
+#include "mo/symbolic/traversal.hpp"
 
 using namespace mo::symbolic;
 
@@ -191,7 +193,7 @@ TEST_CASE_METHOD(Fixture, "symbols keep name, role and index", "[symbolic][arena
 }
 
 TEST_CASE("the kind table matches expr_kinds.def", "[symbolic][arena]") {
-  CHECK(expr_kind_count == 44);
+  CHECK(expr_kind_count == 45);
   CHECK(arity(ExprKind::Select) == 3);
   CHECK(arity(ExprKind::Atan2) == 2);
   CHECK(kind_name(ExprKind::NoEvent) == "NoEvent");
@@ -223,6 +225,29 @@ TEST_CASE("a provided random generator folds known states and keeps the others",
   // Rebuilt through make(), as substitution does: the same node.
   const Expr ops[] = {A.operand(e, 0), A.operand(e, 1)};
   CHECK(A.make(ExprKind::External, ops) == e);
+}
+
+TEST_CASE("delay(): a leaf of the current values whose delay times stay operands", "[symbolic][arena]") {
+  ExprArena A;
+  const Expr x = A.symbol("x", SymbolRole::State, 0);
+  const Expr y = A.symbol("y", SymbolRole::Algebraic, 0);
+  const Expr T = A.symbol("T", SymbolRole::Parameter, 0);
+  const Expr inner = A.delay(A.mul(x, x), A.constant(0.4), A.constant(0.4));
+  const Expr outer = A.delay(A.add(inner, y), T, A.constant(2));
+  CHECK(A.is_leaf(outer));
+  CHECK(A.delay(A.constant(3), T, T) == A.constant(3));  // a constant is its own past
+  CHECK(to_modelica(A, inner) == "delay(x*x, 0.4)");
+  CHECK(to_modelica(A, outer) == "delay(y + delay(x*x, 0.4), T, 2)");
+  // leaves(): the delay and its delay time, not what it delays.
+  const Expr e = A.mul(outer, y);
+  CHECK(leaves(A, std::span(&e, 1)) == std::vector<Expr>{y, T, outer});
+  CHECK(delay_leaves(A, std::span(&e, 1)) == std::vector<Expr>{inner, outer});
+  // At the start time every delay is its expression, nested ones too.
+  CHECK(undelayed(A, e) == A.mul(A.add(A.mul(x, x), y), y));
+  // Substitution reaches inside the delayed expression (alias elimination).
+  const Expr z = A.symbol("z", SymbolRole::Algebraic, 1);
+  CHECK(to_modelica(A, substitute(A, outer, ExprMap{{y, z}})) == "delay(delay(x*x, 0.4) + z, T, 2)");
+  CHECK(evaluate(A, std::span(&e, 1), {{outer, 2.0}, {y, 3.0}, {T, 1.0}})[0] == 6.0);
 }
 
 TEST_CASE("many distinct nodes hash-cons correctly as the table grows", "[symbolic][arena]") {

@@ -130,6 +130,14 @@ struct SampleCode {
   std::vector<int> parameters;  ///< parameters start or interval reads (event times move with them)
 };
 
+/// A delay(e, T, Tmax) (symbolic ExprKind::Delay): load() puts its value,
+/// read from the model's history, into `value`; the `delay_times` section
+/// computes T and Tmax from the parameters, `delay_arguments` (after the
+/// steps) computes e for the history.
+struct DelayCode {
+  Slot value = 0, argument = 0, time = 0, max = 0;
+};
+
 /// Derivatives of the event map (symbolic/event_tangents.hpp) as sections.
 /// `rhs` recomputes the steps with every relation on an indicator valued from
 /// cross[] (f just before or just after an event); `tangent` then gives the
@@ -173,6 +181,8 @@ struct Program {
   std::vector<WhenCode> whens;
   int samples_section = -1;            ///< computes every SampleCode's start and interval (-1: none)
   std::vector<SampleCode> samples;
+  int delay_times = -1, delay_arguments = -1;  ///< sections of DelayCode (-1: no delay())
+  std::vector<DelayCode> delays;
   EventTangentCode event_tangents;        ///< sensitivities through events
   std::array<JacobianCode, 7> jacobians;  ///< in mo::runtime::Jacobian order
   std::array<HessianCode, 2> hessians;    ///< in mo::runtime::Hessian order (f, h)

@@ -23,6 +23,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "mo/runtime/delay_lines.hpp"
 #include "mo/runtime/modelica_random.hpp"
 
 namespace mo::runtime::generated {

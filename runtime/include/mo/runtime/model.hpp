@@ -107,6 +107,10 @@ struct ModelInfo {
   /// Per input: true if the initial system (the start values) reads it, so
   /// that x0 depends on u(t0); empty: none does.
   std::vector<bool> input_in_initial;
+  /// Number of delay() calls: each keeps a history of its expression that
+  /// the simulator fills (Model::record_delays). Collocation cannot express
+  /// them and refuses such a model.
+  std::size_t num_delays = 0;
 
   /// Index of the state named `name`, or nullopt.
   [[nodiscard]] std::optional<std::size_t> state_index(std::string_view name) const;
@@ -277,6 +281,22 @@ public:
                                              std::span<const double> p,
                                              std::span<EventTangent> directions,
                                              std::string& unsupported);
+
+  // --- delay() (ModelInfo::num_delays > 0) ------------------------------------
+
+  /// Records the delayed expressions' values at (t, x, u, p), the current
+  /// discrete variables: the simulator calls it after every accepted step,
+  /// and at an event before and after the handler. initial_state() records
+  /// the start itself. `relations_from`, before the handler of a state
+  /// event: the negated crossings (as rhs_at_event), so that a relation on a
+  /// crossed indicator has its value from before the crossing.
+  virtual void record_delays(double t, std::span<const double> x, std::span<const double> u,
+                             std::span<const double> p, std::span<const int> relations_from = {}) {
+    (void)t, (void)x, (void)u, (void)p, (void)relations_from;
+  }
+  /// The shortest delay time at the parameters of the last initial_state()
+  /// (the simulator's longest step); NaN if one is not in (0, delayMax].
+  [[nodiscard]] virtual double shortest_delay() const { return std::numeric_limits<double>::infinity(); }
 
   /// Current discrete variables d (for results and for save/restore).
   [[nodiscard]] virtual std::span<double> discrete() { return {}; }

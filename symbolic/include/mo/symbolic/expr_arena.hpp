@@ -104,6 +104,9 @@ public:
   Expr external(int code, std::span<const Expr> args);
   /// The arguments of an External node `e`, in order.
   std::vector<Expr> external_args(Expr e) const;
+  /// delay(e, delay_time, delay_max) (ExprKind::Delay); a constant `e` is
+  /// its own delayed value.
+  Expr delay(Expr e, Expr delay_time, Expr delay_max);
 
   // --- Conditionals, relations, logic -------------------------------------
 
@@ -141,7 +144,8 @@ public:
   bool is_constant(Expr e) const { return kind(e) == ExprKind::Constant; }
   /// True if `e` is a Constant equal (==) to `value`.
   bool is_constant(Expr e, double value) const;
-  /// True if `e` is a Symbol, Der or Pre: a value supplied by the caller.
+  /// True if `e` is a Symbol, Der, Pre or Delay: a value supplied by the caller
+  /// (a Delay from recorded history; its delay time is an ordinary operand).
   bool is_leaf(Expr e) const;
   /// The symbol table entry of a Symbol. Throws std::invalid_argument if `e`
   /// is not a Symbol. The reference is valid until the next symbol().

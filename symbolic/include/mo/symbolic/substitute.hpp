@@ -27,4 +27,12 @@ void substitute_in_place(ExprArena& arena, std::span<Expr* const> targets,
 /// One expression; see the span overload.
 Expr substitute(ExprArena& arena, Expr e, const ExprMap& replacements);
 
+/// `e` at the start time: every delay(d, T, Tmax) replaced by d (MLS
+/// 3.7.2.4: delay(d) is d(t0) until t0 + T), nested delays too.
+Expr undelayed(ExprArena& arena, Expr e);
+
+/// The Delay leaves `roots` read, and those their delayed expressions read
+/// (delay(delay(x, 1), 1)), by ascending id.
+std::vector<Expr> delay_leaves(const ExprArena& arena, std::span<const Expr> roots);
+
 } // namespace mo::symbolic

@@ -1,0 +1,172 @@
+// delay() (MLS 3.7.2.4) end to end on tests/e2e/data/Delays.mo: the history
+// the simulator records (runtime/src/delay_lines.cpp), delayed jumps as time
+// events, delays in the initial system, delayed sensitivities, and what is
+// refused. References: the method of steps, finite differences, and a
+// matched line's exact delay.
+#include <cmath>
+#include <sstream>
+
+#include "e2e/support.hpp"
+#include "mo/runtime/optimize.hpp"
+#include "mo/runtime/simulate.hpp"
+
+using namespace mo;
+using namespace mo::e2e;
+
+namespace {
+
+ModelSpec spec(const std::string& name, std::vector<std::string> sensitivities = {}) {
+  return {{kData + "Delays.mo", "Delays." + name, {}, true}, std::move(sensitivities)};
+}
+
+}  // namespace
+
+TEST_CASE("delay(): x' = -x(t - 1) follows the method of steps") {
+  auto model = compiled_model("e2e_delay_steps", spec("Steps"));
+  REQUIRE(model->info().num_delays == 1);
+  const auto exact = [](double t) {
+    double x = 1 - t;
+    if (t > 1) x += (t - 1) * (t - 1) / 2;
+    if (t > 2) x -= (t - 2) * (t - 2) * (t - 2) / 6;
+    return x;
+  };
+  const auto r = simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 3, 30), "x", exact, 1e-8);
+  // The start's break reaches the state at t = 1 and 2 (level 1 and 2 events).
+  REQUIRE(r.event_times.size() >= 2);
+  CHECK(r.event_times[0] == Approx(1.0).margin(1e-12));
+  CHECK(r.event_times[1] == Approx(2.0).margin(1e-12));
+}
+
+TEST_CASE("delay(): a step of the delayed signal arrives T later as a time event") {
+  auto model = compiled_model("e2e_delay_step", spec("DelayedStep"));
+  const auto grid = runtime::OutputGrid::uniform(0, 1, 100);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  bool at_07 = false;
+  for (double t : r.event_times) at_07 = at_07 || std::fabs(t - 0.7) < 1e-12;
+  CHECK(at_07);
+  const auto y = column(r.trajectory, "y"), x = column(r.trajectory, "x");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const double t = grid.times[k];
+    INFO("t = " << t);
+    if (t < 0.7 - 1e-9) CHECK(y[k] == 0.0);
+    if (t > 0.7 - 1e-9) CHECK(y[k] == Approx(1.0).margin(1e-12));
+    CHECK(x[k] == Approx(std::max(0.0, t - 0.7)).margin(1e-9));
+  }
+  CHECK(discrete_value(*model, "late") == 1.0);
+}
+
+TEST_CASE("delay(): sensitivities are delays of sensitivities (exact, and against finite differences)") {
+  SECTION("x' = -k x(t - 0.7): dx/dk = -t, then -t + (t - 0.7)^2") {
+    auto model = compiled_model("e2e_delay_linear_k", spec("Linear", {"k"}));
+    const auto exact = [](double t) { return t <= 0.7 ? -t : -t + (t - 0.7) * (t - 0.7); };
+    simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 1.4, 28), "d(x)/d(k)", exact, 1e-8);
+  }
+  SECTION("nested and summed delays of x and x^2, against central differences") {
+    auto model = compiled_model("e2e_delay_feedback_ka", spec("Feedback", {"k", "a"}));
+    auto plain = compiled_model("e2e_delay_feedback", spec("Feedback"));
+    const auto grid = runtime::OutputGrid::uniform(0, 3, 30);
+    const auto p = model->info().default_parameters();
+    const auto r = runtime::simulate(*model, {}, p, grid, tight());
+    INFO(r.message);
+    REQUIRE(r.ok());
+    for (const char* name : {"k", "a"}) {
+      const auto fd = richardson_difference(*plain, p, parameter(plain->info(), name), 1e-3, grid, "x");
+      const auto generated = column(r.trajectory, std::string("d(x)/d(") + name + ")");
+      const Deviation d = deviation_after_t0(generated, fd);
+      INFO("d(x)/d(" << name << "): worst " << d.worst << " of " << d.scale);
+      CHECK(d.scale > 0.5);
+      CHECK(d.worst < 1e-5 * d.scale);
+    }
+  }
+}
+
+TEST_CASE("delay(): a delayed Integer read through integer() steps T after the original") {
+  auto model = compiled_model("e2e_delay_count", spec("DelayedCount"));
+  const auto grid = runtime::OutputGrid::uniform(0, 2, 80);  // 0.025 apart: at and between ticks
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto n = column(r.trajectory, "n"), m = column(r.trajectory, "m");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const double t = grid.times[k];
+    INFO("t = " << t);
+    CHECK(n[k] == std::floor(t / 0.1 + 1e-9));
+    CHECK(m[k] == std::max(0.0, std::floor((t - 0.05) / 0.1 + 1e-9)));
+  }
+}
+
+TEST_CASE("delay(): the MSL's three-bit counter of JK flip-flops counts the clock's falling edges") {
+  // Digital.Examples.Counter3: RS latches closed through TransportDelay,
+  // delay(Integer(pre(x)), 0.001) read back through integer(). Enable rises
+  // at t = 1 (Sources.Set), the clock (period 1) falls at k + 0.5; the count
+  // at t = k is k - 1 from t = 2 on, modulo 8, bits q0 q1 q2 as Logic '0' = 3
+  // and '1' = 4. No reference .csv in ../shared: the count is the check.
+  auto model = msl_compiled_model("e2e_delay_counter3", {{kData + "MslDigital.mo", "Counter3Run", {}, true}, {}});
+  if (!model) return;
+  REQUIRE(model->info().num_delays > 0);
+  for (int k = 2; k <= 10; ++k) {
+    // Ends at t = k (grid 0.02 apart: the output times meet the clock's edges).
+    const auto r = runtime::simulate(*model, {}, model->info().default_parameters(),
+                                     runtime::OutputGrid::uniform(0, k, 50 * static_cast<std::size_t>(k)), {});
+    INFO("t = " << k << ": " << r.message);
+    REQUIRE(r.ok());
+    const int count = (k - 1) % 8;  // q0, q1, q2: each latch RS1.Nor1.y
+    CHECK(discrete_value(*model, "Counter.FF1.RS1.Nor1.y") == 3 + (count & 1));
+    CHECK(discrete_value(*model, "Counter.FF2.RS1.Nor1.y") == 3 + ((count >> 1) & 1));
+    CHECK(discrete_value(*model, "Counter.FF3.RS1.Nor1.y") == 3 + ((count >> 2) & 1));
+  }
+}
+
+TEST_CASE("delay(): at the start the delayed value is the value itself (a steady start)") {
+  auto model = compiled_model("e2e_delay_steady", spec("SteadyStart"));
+  simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 2, 20), "x", [](double) { return 0.5; }, 1e-12);
+}
+
+TEST_CASE("delay(): a matched lossless line passes half the source TD later") {
+  auto model = compiled_model("e2e_delay_line", spec("Line"));
+  REQUIRE(model->info().num_delays == 4);
+  // No states: the history is as fine as the steps, which the output grid bounds.
+  const auto exact = [](double t) { return t <= 0.1 ? 0.0 : std::sin(10 * (t - 0.1)) / 2; };
+  simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 1, 200), "v2", exact, 1e-7);
+}
+
+TEST_CASE("delay(): what is refused and why") {
+  SECTION("a delay time that varies in time, where it is written") {
+    frontend::SourceManager sources;
+    frontend::DiagnosticEngine diags(sources);
+    auto flat = tools::load_flat_model(spec("VaryingTime").source, sources, diags);
+    REQUIRE(flat);
+    CHECK_FALSE(tools::lower_model(*flat, diags));
+    std::ostringstream printed;
+    diags.print(printed);
+    CHECK_THAT(printed.str(), Catch::Contains("Delays.mo:91:24: error: delay(): the delay time must be a "
+                                              "parameter expression"));
+  }
+  SECTION("a delay time of 0 at the parameters") {
+    auto model = compiled_model("e2e_delay_zero", spec("ZeroTime"));
+    const auto r = runtime::simulate(*model, {}, model->info().default_parameters(),
+                                     runtime::OutputGrid::uniform(0, 1, 10), {});
+    CHECK(r.status == runtime::SimulationStatus::invalid_problem);
+    CHECK_THAT(r.message, Catch::Contains("delay time that is not positive"));
+  }
+  SECTION("CVODES' own sensitivities, which would miss the delayed terms") {
+    auto plain = compiled_model("e2e_delay_linear", spec("Linear"));
+    runtime::SimulationOptions o;
+    o.sensitivities.method = runtime::SensitivityMethod::cvodes_analytic;
+    o.sensitivities.parameters = {0};
+    const auto r = runtime::simulate(*plain, {}, plain->info().default_parameters(),
+                                     runtime::OutputGrid::uniform(0, 1, 10), o);
+    CHECK(r.status == runtime::SimulationStatus::invalid_problem);
+    CHECK_THAT(r.message, Catch::Contains("compiled sensitivity states"));
+  }
+  SECTION("collocation") {
+    auto model = compiled_model("e2e_delay_linear", spec("Linear"));
+    runtime::OptimalControlProblem problem;
+    problem.free_parameters.push_back({0, {0.1, 10.0}, std::nullopt});
+    const auto r = runtime::solve(*model, problem);
+    CHECK(r.status == runtime::OptimizationStatus::invalid_problem);
+    CHECK_THAT(r.message, Catch::Contains("does not support delays"));
+  }
+}
