@@ -103,7 +103,7 @@ TEST_CASE("delay(): the MSL's three-bit counter of JK flip-flops counts the cloc
   // at t = 1 (Sources.Set), the clock (period 1) falls at k + 0.5; the count
   // at t = k is k - 1 from t = 2 on, modulo 8, bits q0 q1 q2 as Logic '0' = 3
   // and '1' = 4. No reference .csv in ../shared: the count is the check.
-  auto model = msl_compiled_model("e2e_delay_counter3", {{kData + "MslDigital.mo", "Counter3Run", {}, true}, {}});
+  auto model = msl_compiled_model("e2e_delay_counter3", {{kData + "MslDelays.mo", "Counter3Run", {}, true}, {}});
   if (!model) return;
   REQUIRE(model->info().num_delays > 0);
   for (int k = 2; k <= 10; ++k) {
@@ -116,6 +116,26 @@ TEST_CASE("delay(): the MSL's three-bit counter of JK flip-flops counts the cloc
     CHECK(discrete_value(*model, "Counter.FF1.RS1.Nor1.y") == 3 + (count & 1));
     CHECK(discrete_value(*model, "Counter.FF2.RS1.Nor1.y") == 3 + ((count >> 1) & 1));
     CHECK(discrete_value(*model, "Counter.FF3.RS1.Nor1.y") == 3 + ((count >> 2) & 1));
+  }
+}
+
+TEST_CASE("delay(): the MSL's FixedDelay and TLine1 delay a sine by their delay time to 1e-6") {
+  // Neither model has a state: the steps, and so the history, are the
+  // output grid's (0.005 apart).
+  const auto grid = runtime::OutputGrid::uniform(0, 1, 200);
+  const auto delayed = [](double amplitude) {
+    return [amplitude](double t) { return t <= 0.1 ? 0.0 : amplitude * std::sin(4 * M_PI * (t - 0.1)); };
+  };
+  for (const auto& [cls, amplitude] : {std::pair{"FixedDelayRun", 1.0}, std::pair{"TLineRun", 0.5}}) {
+    INFO(cls);
+    auto model = msl_compiled_model(std::string("e2e_delay_msl_") + cls, {{kData + "MslDelays.mo", cls, {}, true}, {}});
+    if (!model) return;
+    const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+    INFO(r.message);
+    REQUIRE(r.ok());
+    const auto exact = delayed(amplitude);
+    const auto values = column(r.trajectory, "y");  // d.y, r2.v
+    for (std::size_t k = 0; k < grid.times.size(); ++k) CHECK(values[k] == Approx(exact(grid.times[k])).margin(1e-6));
   }
 }
 
