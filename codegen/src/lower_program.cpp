@@ -147,11 +147,12 @@ public:
     // The arena is complete from here on.
     slots_.emplace(m_.arena.size());
     layout();
+    delay_lines();
     steps();
     outputs();
     starts();
     samples();
-    delays();
+    delay_sections();
     events();
     if (tangents_) event_tangents();
     jacobians();
@@ -313,25 +314,39 @@ private:
     return symbolic::delay_leaves(arena(), roots);
   }
 
-  /// DelayCode per delay(): T and Tmax over the parameters (and x0, as
-  /// sample() times), the delayed expressions after the steps.
-  void delays() {
-    const std::vector<Expr> found = delay_leaves();
-    if (found.empty()) return;
-    new_section("delay_times", p_.delay_times);
-    auto bt = builder({});
-    for (Expr d : found) {
-      Section& s = p_.sections[static_cast<std::size_t>(p_.delay_times)];
+  /// A DelayCode per delay() (before the steps, which compute the varying
+  /// ones): varying if T reads anything but parameters.
+  void delay_lines() {
+    delays_ = delay_leaves();
+    for (Expr d : delays_) {
       DelayCode code;
       code.value = slots_->of(d);
-      code.time = bt.root(arena().operand(d, 1), s);
-      code.max = bt.root(arena().operand(d, 2), s);
+      const Expr t = arena().operand(d, 1);
+      for (Expr leaf : symbolic::leaves(arena(), std::span(&t, 1)))
+        code.varying = code.varying || arena().kind(leaf) != ExprKind::Symbol ||
+                       arena().symbol_info(leaf).role != SymbolRole::Parameter;
+      p_.delay_lines.emplace(d.id(), static_cast<int>(p_.delays.size()));
       p_.delays.push_back(code);
+    }
+  }
+
+  /// T and Tmax over the parameters (and x0, as sample() times; a varying T
+  /// is the steps' slot), the delayed expressions after the steps.
+  void delay_sections() {
+    if (delays_.empty()) return;
+    new_section("delay_times", p_.delay_times);
+    auto bt = builder({});
+    for (std::size_t k = 0; k < delays_.size(); ++k) {
+      Section& s = p_.sections[static_cast<std::size_t>(p_.delay_times)];
+      DelayCode& code = p_.delays[k];
+      const Expr t = arena().operand(delays_[k], 1);
+      code.time = code.varying ? slots_->of(t) : bt.root(t, s);
+      code.max = bt.root(arena().operand(delays_[k], 2), s);
     }
     new_section("delay_arguments", p_.delay_arguments);
     auto ba = builder(after_steps_);
-    for (std::size_t k = 0; k < found.size(); ++k)
-      p_.delays[k].argument = ba.root(arena().operand(found[k], 0), p_.sections[static_cast<std::size_t>(p_.delay_arguments)]);
+    for (std::size_t k = 0; k < delays_.size(); ++k)
+      p_.delays[k].argument = ba.root(arena().operand(delays_[k], 0), p_.sections[static_cast<std::size_t>(p_.delay_arguments)]);
   }
 
   void events() {
@@ -613,6 +628,7 @@ private:
   Program p_;
   std::optional<detail::SlotMap> slots_;
   std::vector<Expr> pre_discrete_;
+  std::vector<Expr> delays_;  // the Delay nodes, in DelayCode order
   std::vector<RelationOnCrossing> relations_;       // relations of the when-conditions
   std::vector<RelationOnCrossing> when_relations_;  // relations of the when-clauses' bodies
   std::optional<symbolic::EventTangents> tangents_;

@@ -181,7 +181,7 @@ public:
       while (s + k * h <= t + tolerance) k += 1.0;
       next = std::min(next, s + k * h);
     }
-    if (ndelay > 0) next = std::min(next, delays_.next_event(t));  // a delayed jump arrives
+    if (ndelay > 0) next = std::min(next, ws_.delays.next_event(t));  // a delayed jump arrives
     return next;
   }
 
@@ -200,9 +200,9 @@ public:
     }
     run(delay_arguments_section, nullptr);
     for (std::size_t k = 0; k < ndelay; ++k)
-      delays_.record(k, t, w_[static_cast<std::size_t>(delay_argument_slot[k])]);
+      ws_.delays.record(k, t, w_[static_cast<std::size_t>(delay_argument_slot[k])]);
   }
-  double shortest_delay() const override { return delays_.shortest(); }
+  double shortest_delay() const override { return ws_.delays.shortest(); }
 
   // pre(d) := d; a when-clause fires if its condition is true now and was
   // false just before (an every-event clause at every call, so that each
@@ -214,7 +214,7 @@ public:
   mo::runtime::EventResponse handle_event(const mo::runtime::EventCause& cause,
                                           std::span<double> x, std::span<const double> u,
                                           std::span<const double> p) override {
-    delays_.at_event(cause.t);
+    ws_.delays.at_event(cause.t);
     load(cause.t, x, u, p);
     if (initialising_) set_initial(0.0);  // the conditions just before initialisation
     section_steps();
@@ -389,7 +389,7 @@ private:
   /// Discrete variables, pre() values and Newton guesses to their starts;
   /// no delay history.
   void reset() {
-    delays_.reset(ndelay);
+    ws_.delays.reset(ndelay);
     reset_discrete();
     for (std::size_t i = 0; i < nnewton; ++i) w_[static_cast<std::size_t>(newton_slots[i])] = newton_start[i];
     event_time_ = std::numeric_limits<double>::quiet_NaN();
@@ -449,9 +449,13 @@ private:
                     std::span<const double> x0) {
     std::copy(x0.begin(), x0.end(), w_.begin() + x_slot);
     run(delay_times_section, nullptr);
-    for (std::size_t k = 0; k < ndelay; ++k)
-      delays_.set_times(k, w_[static_cast<std::size_t>(delay_time_slot[k])],
-                        w_[static_cast<std::size_t>(delay_max_slot[k])]);
+    for (std::size_t k = 0; k < ndelay; ++k) {
+      const double max = w_[static_cast<std::size_t>(delay_max_slot[k])];
+      if (delay_varying[k] != 0)  // its delay time at t0 comes from the steps below
+        ws_.delays.set_varying(k, 0.0, max);
+      else
+        ws_.delays.set_times(k, w_[static_cast<std::size_t>(delay_time_slot[k])], max);
+    }
     for (int pass = 0; pass < 20; ++pass) {
       load(t0, x0, u0, p);
       if (u0.empty()) std::fill(w_.begin() + u_slot, w_.begin() + u_slot + nu, 0.0);
@@ -459,9 +463,12 @@ private:
       run(delay_arguments_section, nullptr);
       bool moved = false;
       for (std::size_t k = 0; k < ndelay; ++k) {
+        if (delay_varying[k] != 0)
+          ws_.delays.set_varying(k, w_[static_cast<std::size_t>(delay_time_slot[k])],
+                                 w_[static_cast<std::size_t>(delay_max_slot[k])]);
         const double e = w_[static_cast<std::size_t>(delay_argument_slot[k])];
-        moved = moved || !(e == delays_.value(k, t0));
-        delays_.set_start(k, e);
+        moved = moved || !(e == ws_.delays.value(k, t0));
+        ws_.delays.set_start(k, e);
       }
       if (!moved) break;
     }
@@ -532,7 +539,8 @@ private:
     std::copy(p.begin(), p.end(), w_.begin() + p_slot);
     w_[t_slot] = t;
     for (std::size_t i = 0; i < nd; ++i) w_[pre_d_slot + i] = w_[d_slot + i];
-    for (std::size_t k = 0; k < ndelay; ++k) w_[static_cast<std::size_t>(delay_value_slot[k])] = delays_.value(k, t);
+    for (std::size_t k = 0; k < ndelay; ++k)  // a varying delay time: read where the steps compute it
+      if (delay_varying[k] == 0) w_[static_cast<std::size_t>(delay_value_slot[k])] = ws_.delays.value(k, t);
     ws_.time = t;
     ws_.failure.clear();
   }
@@ -630,7 +638,6 @@ private:
   bool samples_raised_ = false;  ///< some sample() flag is 1 (an instant with ticks is being handled)
   double event_time_ = std::numeric_limits<double>::quiet_NaN();
   bool initialising_ = false;
-  mo::runtime::DelayLines delays_;  ///< the history of every delay() (ndelay lines)
 };
 )";
 

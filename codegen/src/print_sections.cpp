@@ -55,6 +55,9 @@ private:
       part += fmt::format("void {}(double* w, const int*{}) {{\n", name, s.uses_crossings ? " cross" : "");
       for (std::size_t i = begin; i < end; ++i) {
         const Instruction& ins = s.code[i];
+        if (ins.op == Instruction::Op::Delay)
+          throw std::invalid_argument("code generation: a delay() with a varying delay time inside an "
+                                      "algebraic loop's Newton iteration is not supported");
         if (ins.op == Instruction::Op::Node)
           part += fmt::format("  w[{}] = {};\n", ins.slot, node_code(a_, p_, ins));
         else
@@ -120,11 +123,15 @@ private:
     for (std::size_t k = 0; k <= s.code.size(); ++k) {
       const bool end = k == s.code.size();
       const bool solve = !end && (s.code[k].op == Instruction::Op::LinearSolve ||
-                                  s.code[k].op == Instruction::Op::NonlinearSolve);
+                                  s.code[k].op == Instruction::Op::NonlinearSolve ||
+                                  s.code[k].op == Instruction::Op::Delay);
       if (!end && !solve) continue;
       body += straight_line(s, run_start, k);
       run_start = k + 1;
-      if (solve && s.code[k].op == Instruction::Op::LinearSolve)
+      if (solve && s.code[k].op == Instruction::Op::Delay)  // the line read at T now
+        body += fmt::format("  w[{}] = G::delay_value(ws, {}, {});\n", s.code[k].slot, s.code[k].block,
+                            operand_code(a_, p_, a_.operand(s.code[k].node, 1)));
+      else if (solve && s.code[k].op == Instruction::Op::LinearSolve)
         body += fmt::format("  ok = G::solve_linear(block{}, w, ws) && ok;\n", s.code[k].block);
       else if (solve)
         body += fmt::format("  ws.cross = cross;\n  ok = G::solve_nonlinear(block{}, w, ws) && ok;\n",

@@ -36,6 +36,11 @@ void SectionBuilder::override_relation(Expr e, int indicator, double value_if_do
   }
 }
 
+bool SectionBuilder::varying_delay(Expr e) const {
+  const auto it = program_.delay_lines.find(e.id());
+  return it != program_.delay_lines.end() && program_.delays[static_cast<std::size_t>(it->second)].varying;
+}
+
 bool SectionBuilder::is_valid(Expr e) const {
   if (!tainted_.empty() && tainted_[e.id()]) return false;
   return valid_[e.id()] != 0;
@@ -69,7 +74,24 @@ void SectionBuilder::require(Expr root, Section& s) {
     if (kind == ExprKind::Der)
       throw std::invalid_argument(
           "code generation: der() of a variable appears outside the Derivative symbols");
-    if (a_.is_leaf(e)) {  // symbols and pre(): loaded, never computed
+    if (kind == ExprKind::Delay && varying_delay(e)) {  // read at T, computed first
+      if (!expanded) {
+        stack.back().second = true;
+        const Expr t = a_.operand(e, 1);
+        if (!a_.is_constant(t) && !is_valid(t)) stack.emplace_back(t, false);
+        continue;
+      }
+      stack.pop_back();
+      Instruction ins;
+      ins.op = Instruction::Op::Delay;
+      ins.node = e;
+      ins.slot = slots_.of(e);
+      ins.block = program_.delay_lines.at(e.id());
+      s.code.push_back(ins);
+      valid_[e.id()] = 1;
+      continue;
+    }
+    if (a_.is_leaf(e)) {  // symbols, pre() and fixed delays: loaded, never computed
       slots_.of(e);
       valid_[e.id()] = 1;
       stack.pop_back();
@@ -150,6 +172,9 @@ void SectionBuilder::nonlinear(const symbolic::EquationBlock& b, BlockCode& code
   std::vector<std::uint8_t> dependent(a_.size(), 0);
   for (Expr z : b.unknowns) dependent[z.id()] = 1;
   for (Expr e : order) {
+    if (a_.kind(e) == ExprKind::Delay && varying_delay(e) && dependent[a_.operand(e, 1).id()])
+      throw std::invalid_argument("code generation: a delay time that depends on the unknowns of an "
+                                  "algebraic loop is not supported");
     if (a_.is_leaf(e) || a_.is_constant(e) || is_valid(e)) continue;
     for (std::size_t i = 0; i < symbolic::arity(a_.kind(e)); ++i)
       dependent[e.id()] |= dependent[a_.operand(e, i).id()];

@@ -59,6 +59,8 @@ public:
 private:
   void require(symbolic::Expr e, Section& s);
   bool is_valid(symbolic::Expr e) const;
+  /// A delay() node whose delay time varies (DelayCode::varying): computed, not loaded.
+  bool varying_delay(symbolic::Expr e) const;
   void emit_node(symbolic::Expr e, Section& s);
   void nonlinear(const symbolic::EquationBlock& b, BlockCode& code, Section& s);
 

@@ -43,7 +43,7 @@ void DelayLines::at_event(double t) {
     breaks_.erase(breaks_.begin());
     if (std::abs(b.time - t) > instant(t)) continue;  // passed without its event (a failed run)
     for (const Line& line : lines_)
-      if (line.delay > 0.0) schedule(t + line.delay, b.level + 1);
+      if (line.delay > 0.0 && !line.varying) schedule(t + line.delay, b.level + 1);
   }
 }
 
@@ -53,12 +53,17 @@ void DelayLines::set_times(std::size_t k, double delay_time, double delay_max) {
   if (!(delay_time <= delay_max)) lines_[k].delay = std::numeric_limits<double>::quiet_NaN();
 }
 
+void DelayLines::set_varying(std::size_t k, double at_start, double delay_max) {
+  set_times(k, at_start, delay_max);
+  lines_[k].varying = true;
+}
+
 void DelayLines::set_start(std::size_t k, double value) { lines_[k].start = value; }
 
 void DelayLines::record(std::size_t k, double t, double value) {
   Line& line = lines_[k];
   if (line.t.empty()) {
-    if (line.delay > 0.0) schedule(t + line.delay, 1);  // t − T leaves the start
+    if (line.delay > 0.0 && !line.varying) schedule(t + line.delay, 1);  // t − T leaves the start
   } else {
     const double last = line.t.back();
     if (t < last) return;
@@ -69,7 +74,7 @@ void DelayLines::record(std::size_t k, double t, double value) {
         line.v.back() = value;
         return;
       }
-      if (value != line.v.back() && line.delay > 0.0) schedule(t + line.delay, 1);
+      if (value != line.v.back() && line.delay > 0.0 && !line.varying) schedule(t + line.delay, 1);
     }
   }
   line.t.push_back(t);
@@ -89,10 +94,10 @@ void DelayLines::forget(Line& line, double now) {
   }
 }
 
-double DelayLines::value(std::size_t k, double t) const {
+double DelayLines::value(std::size_t k, double t, double delay_time) const {
   const Line& line = lines_[k];
   if (line.t.empty()) return line.start;
-  const double q = t - line.delay;
+  const double q = t - delay_time;
   const auto begin = line.t.begin() + static_cast<std::ptrdiff_t>(line.first);
   if (q <= *begin) return line.v[line.first];
   if (q >= line.t.back()) {
@@ -151,8 +156,10 @@ double DelayLines::next_event(double t) const {
 double DelayLines::shortest() const {
   double shortest = std::numeric_limits<double>::infinity();
   for (const Line& line : lines_) {
-    if (!(line.delay > 0.0)) return std::numeric_limits<double>::quiet_NaN();
-    shortest = std::min(shortest, line.delay);
+    // A varying delay time of 0 at the start (allowed: e itself) is bounded by Tmax.
+    const double delay = line.varying && line.delay == 0.0 ? line.keep : line.delay;
+    if (!(delay > 0.0)) return std::numeric_limits<double>::quiet_NaN();
+    shortest = std::min(shortest, delay);
   }
   return shortest;
 }

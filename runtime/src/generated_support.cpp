@@ -10,6 +10,17 @@
 
 namespace mo::runtime::generated {
 
+double delay_value(BlockWorkspace& ws, std::size_t line, double delay_time) {
+  const double max = ws.delays.delay_max(line);
+  if (!(delay_time >= 0.0 && delay_time <= max)) {
+    if (ws.failure.empty())
+      ws.failure = fmt::format("delay() at t = {}: the delay time {} is outside [0, delayMax = {}]", ws.time,
+                               delay_time, max);
+    return std::numeric_limits<double>::quiet_NaN();
+  }
+  return ws.delays.value(line, ws.time, delay_time);
+}
+
 namespace {
 
 using Size = std::size_t;

@@ -153,15 +153,20 @@ Expr ExprConverter::call(const ast::Expr& e) {
       return fail(e, fmt::format("'{}' needs a constant output index from 0 to {} and {} state values", name, n, n));
     return a_.external(g * random::kCodeBase + static_cast<int>(k), std::span(x).subspan(1));
   }
-  // delay(e, T) and delay(e, T, Tmax) (MLS 3.7.2.4): T > 0 is checked when
-  // the simulation starts, where its value is known. A delay time that
-  // varies in time (MLS allows one below Tmax) is not supported.
+  // delay(e, T) and delay(e, T, Tmax) (MLS 3.7.2.4): T and Tmax are
+  // parameter expressions, except T with a Tmax given; 0 <= T <= Tmax is
+  // checked where the values are known (the start, each evaluation).
   if (name == "delay" && (need(2) || need(3))) {
-    for (std::size_t i = 1; i < x.size(); ++i)
-      for (Expr leaf : leaves(a_, std::span(&x[i], 1)))
-        if (a_.kind(leaf) != ExprKind::Symbol || a_.symbol_info(leaf).role != SymbolRole::Parameter)
-          return fail(*e.args[i], "delay(): the delay time must be a parameter expression; a delay "
-                                  "time that varies in time is not supported");
+    auto parameters_only = [&](Expr v) {
+      for (Expr leaf : leaves(a_, std::span(&v, 1)))
+        if (a_.kind(leaf) != ExprKind::Symbol || a_.symbol_info(leaf).role != SymbolRole::Parameter) return false;
+      return true;
+    };
+    if (x.size() == 3 && !parameters_only(x[2]))
+      return fail(*e.args[2], "delay(): delayMax must be a parameter expression");
+    if (x.size() == 2 && !parameters_only(x[1]))
+      return fail(*e.args[1], "delay(): a delay time that varies needs delayMax, a parameter expression: "
+                              "delay(expr, delayTime, delayMax)");
     return a_.delay(x[0], x[1], x.size() == 3 ? x[2] : x[1]);
   }
   if (name == "initial" && initial_) return initial_();
@@ -194,9 +199,11 @@ Expr time_derivative(Dae& dae, Expr e, bool& input_hit, bool initial) {
   ExprArena& a = dae.arena;
   ExprMap seeds;
   for (Expr leaf : leaves(a, std::span(&e, 1))) {
-    if (a.kind(leaf) == ExprKind::Delay) {  // d/dt delay(d, T) = delay(d/dt d, T): T is a parameter
+    if (a.kind(leaf) == ExprKind::Delay) {  // d/dt e(t - T(t)) = e'(t - T) (1 - dT/dt)
       const Expr rate = time_derivative(dae, a.operand(leaf, 0), input_hit, initial);
-      seeds[leaf] = a.delay(rate, a.operand(leaf, 1), a.operand(leaf, 2));
+      const Expr delayed = a.delay(rate, a.operand(leaf, 1), a.operand(leaf, 2));
+      const Expr t_rate = time_derivative(dae, a.operand(leaf, 1), input_hit, initial);
+      seeds[leaf] = a.mul(delayed, a.sub(a.constant(1.0), t_rate));
       continue;
     }
     if (a.kind(leaf) != ExprKind::Symbol) continue;

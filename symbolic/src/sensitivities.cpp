@@ -180,11 +180,15 @@ struct DelayedDerivatives {
     ExprArena& a = m.arena;
     for (Expr d : delay_leaves(a, roots)) {
       const Expr times[] = {a.operand(d, 1), a.operand(d, 2)};
-      for (Expr l : leaves(a, times))
+      for (Expr l : leaves(a, times)) {
         if (l == par.symbol)
           throw std::invalid_argument("sensitivities: the delay time of " + to_modelica(a, d) +
                                       " depends on parameter " + par.info.name +
                                       "; sensitivities to a delay time are not supported");
+        if (a.kind(l) != ExprKind::Symbol || a.symbol_info(l).role != SymbolRole::Parameter)
+          throw std::invalid_argument("sensitivities: the delay time of " + to_modelica(a, d) +
+                                      " varies; sensitivities through a varying delay time are not supported");
+      }
       const Expr p = a.symbol(sensitivity_name("$delay" + std::to_string(d.id()), par.info.name),
                               SymbolRole::Algebraic, -1);
       delays.push_back(d);

@@ -82,6 +82,15 @@ TEST_CASE("delay(): sensitivities are delays of sensitivities (exact, and agains
   }
 }
 
+TEST_CASE("delay(): a delay time that varies reads the history at t - T(t)") {
+  auto model = compiled_model("e2e_delay_varying", spec("VaryingTime"));
+  const auto exact = [](double t) {
+    const double t1 = 10.0 / 9;
+    return t <= t1 ? 1 - t : (1 - t1) - (2 * (t - t1) - 0.45 * (t * t - t1 * t1));
+  };
+  simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 2.3, 23), "x", exact, 1e-8);
+}
+
 TEST_CASE("delay(): a delayed Integer read through integer() steps T after the original") {
   auto model = compiled_model("e2e_delay_count", spec("DelayedCount"));
   const auto grid = runtime::OutputGrid::uniform(0, 2, 80);  // 0.025 apart: at and between ticks
@@ -139,6 +148,16 @@ TEST_CASE("delay(): the MSL's FixedDelay and TLine1 delay a sine by their delay 
   }
 }
 
+TEST_CASE("delay(): the MSL's VariableDelay reads its input at t - T(t) to 1e-6") {
+  auto model = msl_compiled_model("e2e_delay_msl_variable", {{kData + "MslDelays.mo", "VariableDelayRun", {}, true}, {}});
+  if (!model) return;
+  const auto exact = [](double t) {  // T = 0.1 + 0.1 t (a ramp)
+    const double q = t - (0.1 + 0.1 * t);
+    return q <= 0 ? 0.0 : std::sin(4 * M_PI * q);
+  };
+  simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 1, 200), "y", exact, 1e-6);
+}
+
 TEST_CASE("delay(): at the start the delayed value is the value itself (a steady start)") {
   auto model = compiled_model("e2e_delay_steady", spec("SteadyStart"));
   simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 2, 20), "x", [](double) { return 0.5; }, 1e-12);
@@ -153,16 +172,26 @@ TEST_CASE("delay(): a matched lossless line passes half the source TD later") {
 }
 
 TEST_CASE("delay(): what is refused and why") {
-  SECTION("a delay time that varies in time, where it is written") {
+  SECTION("a delay time that varies without delayMax, where it is written") {
     frontend::SourceManager sources;
     frontend::DiagnosticEngine diags(sources);
-    auto flat = tools::load_flat_model(spec("VaryingTime").source, sources, diags);
+    auto flat = tools::load_flat_model(spec("VaryingWithoutMax").source, sources, diags);
     REQUIRE(flat);
     CHECK_FALSE(tools::lower_model(*flat, diags));
     std::ostringstream printed;
     diags.print(printed);
-    CHECK_THAT(printed.str(), Catch::Contains("Delays.mo:91:24: error: delay(): the delay time must be a "
-                                              "parameter expression"));
+    CHECK_THAT(printed.str(), Catch::Contains("Delays.mo:100:24: error: delay(): a delay time that varies "
+                                              "needs delayMax"));
+  }
+  SECTION("sensitivities through a varying delay time") {
+    auto ode = lower_spec(spec("VaryingTime"));
+    std::string error;
+    try {
+      error = tools::add_named_sensitivities(ode, {"k"});
+    } catch (const std::invalid_argument& e) {
+      error = e.what();
+    }
+    CHECK_THAT(error, Catch::Contains("sensitivities through a varying delay time are not supported"));
   }
   SECTION("a delay time of 0 at the parameters") {
     auto model = compiled_model("e2e_delay_zero", spec("ZeroTime"));

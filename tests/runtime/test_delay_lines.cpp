@@ -72,3 +72,18 @@ TEST_CASE("DelayLines: old history is dropped, what t - Tmax reads is kept") {
   CHECK(d.value(0, 10.0) == Approx(std::sin(9.5)).margin(1e-12));
   CHECK(d.value(0, 9.6) == Approx(std::sin(9.1)).margin(1e-12));
 }
+
+TEST_CASE("DelayLines: a varying delay time is given at each read and schedules no breaks") {
+  DelayLines d;
+  d.reset(1);
+  d.set_varying(0, 0.0, 2.0);  // T = 0 at the start: the step is bounded by Tmax
+  CHECK(d.shortest() == 2.0);
+  for (int k = 0; k <= 300; ++k) {
+    const double t = k * 0.01;
+    d.record(0, t, 2 * t);
+  }
+  CHECK(d.next_event(0.0) == std::numeric_limits<double>::infinity());
+  CHECK(d.value(0, 3.0, 0.55) == Approx(2 * 2.45).margin(1e-12));
+  CHECK(d.value(0, 3.0, 1.7) == Approx(2 * 1.3).margin(1e-12));
+  CHECK(d.value(0, 3.0, 0.0) == 6.0);  // t - T at the last record
+}

@@ -85,11 +85,20 @@ package Delays
     m = integer(delay(n, 0.05));
   end DelayedCount;
 
+  // A delay time that varies: x' = -x(0.9 t - 1), x = 1 - t until
+  // t = 10/9, then x' = -(2 - 0.9 t) while 0.9 t - 1 <= 10/9.
   model VaryingTime
+    parameter Real k = 1;
     Real x(start = 1, fixed = true);
   equation
-    der(x) = -delay(x, 1 + 0.1*time, 2);
+    der(x) = -k*delay(x, 1 + 0.1*time, 2);
   end VaryingTime;
+
+  model VaryingWithoutMax
+    Real x(start = 1, fixed = true);
+  equation
+    der(x) = -delay(x, 1 + 0.1*time);
+  end VaryingWithoutMax;
 
   model ZeroTime
     parameter Real T = 0;

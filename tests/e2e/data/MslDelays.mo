@@ -28,3 +28,13 @@ equation
   connect(line.n1, g.p);
   connect(src.n, g.p);
 end TLineRun;
+
+model VariableDelayRun  // a delay time that grows from 0.1 to 0.2
+  Modelica.Blocks.Sources.Sine sine(freqHz = 2);
+  Modelica.Blocks.Sources.Ramp T(height = 0.1, duration = 1, offset = 0.1);
+  Modelica.Blocks.Nonlinear.VariableDelay d(delayMax = 1);
+  output Real y = d.y;
+equation
+  connect(sine.y, d.u);
+  connect(T.y, d.delayTime);
+end VariableDelayRun;

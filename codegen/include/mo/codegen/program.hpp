@@ -36,6 +36,9 @@ struct Instruction {
     Copy,            ///< w[slot] = value of `node` (a constant, leaf or computed node)
     LinearSolve,     ///< solve Program::blocks[block]
     NonlinearSolve,  ///< Newton on Program::blocks[block]
+    /// w[slot] = delay line `block` read at its delay time `node`'s operand 1
+    /// (a delay() whose delay time varies: DelayCode::varying)
+    Delay,
   };
   Op op = Op::Node;
   symbolic::Expr node;    ///< Node: what to compute; Copy: the value
@@ -136,6 +139,10 @@ struct SampleCode {
 /// steps) computes e for the history.
 struct DelayCode {
   Slot value = 0, argument = 0, time = 0, max = 0;
+  /// The delay time varies: `value` is computed where the steps need it
+  /// (Instruction::Op::Delay), `time` is the slot of T after the steps, and
+  /// delay_times computes only Tmax.
+  bool varying = false;
 };
 
 /// Derivatives of the event map (symbolic/event_tangents.hpp) as sections.
@@ -183,6 +190,7 @@ struct Program {
   std::vector<SampleCode> samples;
   int delay_times = -1, delay_arguments = -1;  ///< sections of DelayCode (-1: no delay())
   std::vector<DelayCode> delays;
+  std::unordered_map<std::uint32_t, int> delay_lines;  ///< Delay node id → index in `delays`
   EventTangentCode event_tangents;        ///< sensitivities through events
   std::array<JacobianCode, 7> jacobians;  ///< in mo::runtime::Jacobian order
   std::array<HessianCode, 2> hessians;    ///< in mo::runtime::Hessian order (f, h)

@@ -19,6 +19,13 @@
 //
 // A delay time must be positive: the simulator limits its step to the
 // shortest one, so that every point read lies in the recorded past.
+//
+// A line may have a delay time that varies (delay(e, T, Tmax), T computed
+// with the model's steps): it is read at t − T(t) with T given at each read,
+// keeps Tmax of history, and schedules no breaks of its own (t_e + T(t) = t
+// has no closed form); its delay time at the start counts for the step. A
+// T outside [0, Tmax] is an error the caller reports; t − T after the last
+// record (a T shorter than the step) reads the last value.
 #pragma once
 
 #include <cstddef>
@@ -32,6 +39,8 @@ public:
   void reset(std::size_t n);
   /// Line k delays by `delay_time` and keeps `delay_max` (>= delay_time) of history.
   void set_times(std::size_t k, double delay_time, double delay_max);
+  /// Line k's delay time varies, at most `delay_max`; `at_start` is its value at t0.
+  void set_varying(std::size_t k, double at_start, double delay_max);
   /// The value line k gives before its first record (while the start is settled).
   void set_start(std::size_t k, double value);
   /// e_k(t) = value. A record at the time of the line's last one is the value
@@ -42,7 +51,11 @@ public:
   /// read with their value after; a break due at t schedules the next level.
   void at_event(double t);
   /// e_k(t − T_k), the line's delayed value at time t.
-  [[nodiscard]] double value(std::size_t k, double t) const;
+  [[nodiscard]] double value(std::size_t k, double t) const { return value(k, t, lines_[k].delay); }
+  /// e_k(t − delay_time): a varying line's value for its delay time now.
+  [[nodiscard]] double value(std::size_t k, double t, double delay_time) const;
+  /// Tmax of line k.
+  [[nodiscard]] double delay_max(std::size_t k) const { return lines_[k].keep; }
   /// The first t_e + T_k of a recorded jump strictly after t (+infinity if none).
   [[nodiscard]] double next_event(double t) const;
   /// The shortest delay time over all lines; NaN if a line has T <= 0 or
@@ -54,6 +67,7 @@ public:
 private:
   struct Line {
     double delay = 0.0, keep = 0.0, start = 0.0;
+    bool varying = false;      ///< delay is the value at the start; reads give their own
     std::vector<double> t, v;  ///< ascending t; a break is two entries at one t
     std::size_t first = 0;     ///< entries before it are no longer read
   };

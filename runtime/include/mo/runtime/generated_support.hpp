@@ -150,8 +150,13 @@ struct BlockWorkspace {
   std::unordered_map<const NonlinearBlock*, std::vector<Solution>> solutions;
   bool follow_time = true;  ///< false: Newton starts from w as it is, and the solutions are kept
   std::string failure;              ///< why the first failed block of this evaluation failed; empty if none
+  DelayLines delays;                ///< the model's delay() histories (generated models with delays)
   NewtonOptions newton;             ///< settings
 };
+
+/// delay(e, T, Tmax) with a varying T: line `line` of ws.delays read at
+/// ws.time − T; NaN, and the reason in ws.failure, for a T outside [0, Tmax].
+double delay_value(BlockWorkspace& ws, std::size_t line, double delay_time);
 
 /// Solves the linear block; writes z into w[unknowns] (with the factors of
 /// ws.lu when J equals ws.factored, bit for bit). On a singular J, sets
