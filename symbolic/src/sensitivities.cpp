@@ -162,7 +162,7 @@ struct Additions {
 /// delay(e, T, Tmax) along a parameter is delay(∂e, T, Tmax), T not
 /// depending on it. ∂e is known only after the steps are differentiated, so
 /// they are differentiated with a placeholder symbol per delay, replaced by
-/// DelayedDerivatives::replace afterwards.
+/// DelayedDerivatives::replacements afterwards.
 struct DelayedDerivatives {
   std::vector<Expr> delays, placeholders;  ///< ascending delay ids
 
