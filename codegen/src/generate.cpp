@@ -295,20 +295,21 @@ std::string sample_tables(const Program& p) {
 
 /// Tables of Program::delays (DelayCode).
 std::string delay_tables(const Program& p) {
-  std::vector<Slot> value, argument, time, max, varying;
+  std::vector<Slot> value, argument, time, max, varying, sensitivity;
   for (const DelayCode& d : p.delays) {
     value.push_back(d.value);
     argument.push_back(d.argument);
     time.push_back(d.time);
     max.push_back(d.max);
     varying.push_back(d.varying ? 1 : 0);
+    sensitivity.push_back(d.of_sensitivities ? 1 : 0);
   }
   return fmt::format("constexpr std::size_t ndelay = {};\nconstexpr int delay_times_section = {}, "
                      "delay_arguments_section = {};\n",
                      p.delays.size(), p.delay_times, p.delay_arguments) +
          slot_array("delay_value_slot", value) + slot_array("delay_argument_slot", argument) +
          slot_array("delay_time_slot", time) + slot_array("delay_max_slot", max) +
-         slot_array("delay_varying", varying);
+         slot_array("delay_varying", varying) + slot_array("delay_of_sensitivities", sensitivity);
 }
 
 /// Tables of Program::event_tangents (sections -1 and null arrays without events).

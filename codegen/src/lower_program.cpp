@@ -6,6 +6,7 @@
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <utility>
 
 #include "derivatives.hpp"
@@ -318,6 +319,24 @@ private:
   /// ones): varying if T reads anything but parameters.
   void delay_lines() {
     delays_ = delay_leaves();
+    // The step targets that depend on sensitivity states (one pass: steps
+    // are in evaluation order).
+    std::unordered_set<Expr, symbolic::ExprHash> of_sensitivities;
+    for (const auto& x : m_.states)
+      if (x.sensitivity) of_sensitivities.insert(x.symbol);
+    auto reads = [&](std::span<const Expr> roots) {
+      for (Expr leaf : symbolic::leaves(arena(), roots))
+        if (of_sensitivities.count(leaf)) return true;
+      return false;
+    };
+    if (!of_sensitivities.empty())
+      for (const auto& step : m_.steps) {
+        if (const auto* as = std::get_if<symbolic::Assignment>(&step)) {
+          if (reads(std::span(&as->value, 1))) of_sensitivities.insert(as->target);
+        } else if (const auto& blk = std::get<symbolic::EquationBlock>(step); reads(blk.residuals)) {
+          of_sensitivities.insert(blk.unknowns.begin(), blk.unknowns.end());
+        }
+      }
     for (Expr d : delays_) {
       DelayCode code;
       code.value = slots_->of(d);
@@ -325,6 +344,8 @@ private:
       for (Expr leaf : symbolic::leaves(arena(), std::span(&t, 1)))
         code.varying = code.varying || arena().kind(leaf) != ExprKind::Symbol ||
                        arena().symbol_info(leaf).role != SymbolRole::Parameter;
+      const Expr e = arena().operand(d, 0);
+      code.of_sensitivities = reads(std::span(&e, 1));
       p_.delay_lines.emplace(d.id(), static_cast<int>(p_.delays.size()));
       p_.delays.push_back(code);
     }

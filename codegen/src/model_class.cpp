@@ -187,9 +187,9 @@ public:
 
   // The delayed expressions at (t, x, u) into the history: the steps, then
   // the delay_arguments section. An empty u is all 0 (as at initial_state).
-  void record_delays(double t, std::span<const double> x, std::span<const double> u,
+  bool record_delays(double t, std::span<const double> x, std::span<const double> u,
                      std::span<const double> p, std::span<const int> relations_from) override {
-    if (ndelay == 0) return;
+    if (ndelay == 0) return false;
     load(t, x, u, p);
     if (u.empty()) std::fill(w_.begin() + u_slot, w_.begin() + u_slot + nu, 0.0);
     if (!relations_from.empty() && event_rhs_section >= 0) {
@@ -199,8 +199,11 @@ public:
       section_steps();
     }
     run(delay_arguments_section, nullptr);
+    bool jumped = false;  // a delayed value of the model itself (not a sensitivity) jumped
     for (std::size_t k = 0; k < ndelay; ++k)
-      ws_.delays.record(k, t, w_[static_cast<std::size_t>(delay_argument_slot[k])]);
+      jumped = (ws_.delays.record(k, t, w_[static_cast<std::size_t>(delay_argument_slot[k])]) &&
+                delay_of_sensitivities[k] == 0) || jumped;
+    return jumped;
   }
   double shortest_delay() const override { return ws_.delays.shortest(); }
 

@@ -60,26 +60,31 @@ void DelayLines::set_varying(std::size_t k, double at_start, double delay_max) {
 
 void DelayLines::set_start(std::size_t k, double value) { lines_[k].start = value; }
 
-void DelayLines::record(std::size_t k, double t, double value) {
+bool DelayLines::record(std::size_t k, double t, double value) {
   Line& line = lines_[k];
+  bool jump = false;
   if (line.t.empty()) {
     if (line.delay > 0.0 && !line.varying) schedule(t + line.delay, 1);  // t − T leaves the start
   } else {
     const double last = line.t.back();
-    if (t < last) return;
+    if (t < last) return false;
     if (t == last) {
+      jump = value != line.v.back();
       // A third record at an instant: the event iteration moved on; the
       // value after is the latest.
       if (line.t.size() >= 2 && line.t[line.t.size() - 2] == t) {
         line.v.back() = value;
-        return;
+        jump = value != line.v[line.v.size() - 2];
+        if (jump && line.delay > 0.0 && !line.varying) schedule(t + line.delay, 1);  // once: schedule() merges
+        return jump;
       }
-      if (value != line.v.back() && line.delay > 0.0 && !line.varying) schedule(t + line.delay, 1);
+      if (jump && line.delay > 0.0 && !line.varying) schedule(t + line.delay, 1);
     }
   }
   line.t.push_back(t);
   line.v.push_back(value);
   forget(line, t);
+  return jump;
 }
 
 // Drops what t − Tmax can no longer read, keeping three points before it for

@@ -149,6 +149,8 @@ private:
   bool handle_event(double t, std::span<const int> crossings, bool time_event, bool& changed);
   Eigen::MatrixXd sensitivities() const;
   bool apply_jump(double t, detail::SensitivityJump& jump);
+  /// dτ/dp_j of the last event handled with sensitivities (empty: none).
+  std::vector<double> event_time_derivatives_;
   void harvest_statistics();
   void fail(SimulationStatus status, std::string message);
   void fail_cvode(int flag, const char* call, double t);
@@ -631,6 +633,8 @@ bool Simulation::handle_event(double t, std::span<const int> crossings, bool tim
     return false;
   }
   if (jump && !apply_jump(t, *jump)) return false;
+  event_time_derivatives_.clear();
+  if (jump) event_time_derivatives_ = jump->event_time_derivatives();
   if (terminate) {
     fail(SimulationStatus::terminated_by_model, fmt::format("terminated by the model at t = {}", t));
     return false;
@@ -768,7 +772,7 @@ SimulationResult Simulation::run() {
     std::copy(x_keep.begin(), x_keep.end(), x_->data());
   };
   auto record_delays = [&](double t, bool after_event, std::span<const int> crossings = {}) {
-    if (!one_step) return;
+    if (!one_step) return false;
     if (after_event)
       inputs_.evaluate(t, u_);
     else
@@ -776,8 +780,8 @@ SimulationResult Simulation::run() {
     relations.assign(crossings.size(), 0);
     for (std::size_t i = 0; i < crossings.size(); ++i)
       if (std::abs(crossings[i]) == 1) relations[i] = after_event ? crossings[i] : -crossings[i];
-    model_.record_delays(t, states(), u_, p_, relations);
     recorded = t;
+    return model_.record_delays(t, states(), u_, p_, relations);
   };
 
   const std::vector<double> breakpoints = inputs_.breakpoints(t0, t_end);
@@ -828,7 +832,21 @@ SimulationResult Simulation::run() {
           record_through(t);
           return finish();
         }
-        record_delays(t, true, roots);
+        // A delayed expression that jumps at an event whose time moves with
+        // p jumps T later at a time that moves too: S would jump there, and
+        // the break's time event carries no such jump.
+        if (record_delays(t, true, roots)) {
+          for (std::size_t j = 0; j < event_time_derivatives_.size(); ++j)
+            if (event_time_derivatives_[j] != 0.0) {
+              fail(SimulationStatus::invalid_problem,
+                   fmt::format("event at t = {}: a delay() of a value that jumps here, at a time that "
+                               "depends on parameter {}; the sensitivities of the delayed jump are not "
+                               "supported",
+                               t, info_.parameters[static_cast<std::size_t>(sens_params_[j])].name));
+              record_through(t);
+              return finish();
+            }
+        }
         // Restart even if nothing discrete changed: a relation in the
         // continuous equations switched at this root, and CVODES' last step
         // (already taken past the root) used the right-hand side of before.

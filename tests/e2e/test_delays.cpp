@@ -63,6 +63,22 @@ TEST_CASE("delay(): sensitivities are delays of sensitivities (exact, and agains
     const auto exact = [](double t) { return t <= 0.7 ? -t : -t + (t - 0.7) * (t - 0.7); };
     simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 1.4, 28), "d(x)/d(k)", exact, 1e-8);
   }
+  SECTION("through a state event whose time moves with k, against central differences") {
+    auto model = compiled_model("e2e_delay_switch_k", spec("GainSwitch", {"k"}));
+    auto plain = compiled_model("e2e_delay_switch", spec("GainSwitch"));
+    const auto grid = runtime::OutputGrid::uniform(0, 2, 20);
+    const auto p = model->info().default_parameters();
+    auto o = tight();  // the sensitivities jump at the event
+    o.sensitivities.method = runtime::SensitivityMethod::model_states;
+    const auto r = runtime::simulate(*model, {}, p, grid, o);
+    INFO(r.message);
+    REQUIRE(r.ok());
+    const auto fd = richardson_difference(*plain, p, parameter(plain->info(), "k"), 1e-3, grid, "x");
+    const Deviation d = deviation_after_t0(column(r.trajectory, "d(x)/d(k)"), fd);
+    INFO("worst " << d.worst << " of " << d.scale);
+    CHECK(d.scale > 0.5);
+    CHECK(d.worst < 1e-5 * d.scale);
+  }
   SECTION("nested and summed delays of x and x^2, against central differences") {
     auto model = compiled_model("e2e_delay_feedback_ka", spec("Feedback", {"k", "a"}));
     auto plain = compiled_model("e2e_delay_feedback", spec("Feedback"));
@@ -180,7 +196,7 @@ TEST_CASE("delay(): what is refused and why") {
     CHECK_FALSE(tools::lower_model(*flat, diags));
     std::ostringstream printed;
     diags.print(printed);
-    CHECK_THAT(printed.str(), Catch::Contains("Delays.mo:100:24: error: delay(): a delay time that varies "
+    CHECK_THAT(printed.str(), Catch::Contains("Delays.mo:126:24: error: delay(): a delay time that varies "
                                               "needs delayMax"));
   }
   SECTION("sensitivities through a varying delay time") {
@@ -192,6 +208,16 @@ TEST_CASE("delay(): what is refused and why") {
       error = e.what();
     }
     CHECK_THAT(error, Catch::Contains("sensitivities through a varying delay time are not supported"));
+  }
+  SECTION("a delayed jump at a time that moves with the parameter") {
+    auto model = compiled_model("e2e_delay_delayed_switch_k", spec("DelayedSwitch", {"k"}));
+    auto o = tight();
+    o.sensitivities.method = runtime::SensitivityMethod::model_states;
+    const auto r = runtime::simulate(*model, {}, model->info().default_parameters(),
+                                     runtime::OutputGrid::uniform(0, 2, 20), o);
+    CHECK(r.status == runtime::SimulationStatus::invalid_problem);
+    CHECK_THAT(r.message, Catch::Contains("a delay() of a value that jumps here, at a time that depends on "
+                                          "parameter k"));
   }
   SECTION("a delay time of 0 at the parameters") {
     auto model = compiled_model("e2e_delay_zero", spec("ZeroTime"));

@@ -33,6 +33,32 @@ package Delays
     der(x) = -k*y;
   end Feedback;
 
+  // A state event (x = 0.5, its time moves with k) doubles the gain g.
+  // GainSwitch delays x, which does not jump there: its sensitivities go
+  // through the event. DelayedSwitch delays g*x, which does: the delayed
+  // jump 0.4 later moves with k too, and that is refused.
+  model GainSwitch
+    parameter Real k = 1;
+    Real x(start = 1, fixed = true);
+    discrete Real g(start = 1, fixed = true);
+  equation
+    der(x) = -k*g*delay(x, 0.4);
+    when x < 0.5 then
+      g = 2;
+    end when;
+  end GainSwitch;
+
+  model DelayedSwitch
+    parameter Real k = 1;
+    Real x(start = 1, fixed = true);
+    discrete Real g(start = 1, fixed = true);
+  equation
+    der(x) = -k*delay(g*x, 0.4);
+    when x < 0.5 then
+      g = 2;
+    end when;
+  end DelayedSwitch;
+
   // x' = -k x(t - 0.7): on [0, 0.7] x = 1 - k t, and on [0.7, 1.4]
   // x = 1 - 0.7 k - k (t - 0.7) + k^2 (t - 0.7)^2 / 2.
   model Linear

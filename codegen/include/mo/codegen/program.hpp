@@ -143,6 +143,9 @@ struct DelayCode {
   /// (Instruction::Op::Delay), `time` is the slot of T after the steps, and
   /// delay_times computes only Tmax.
   bool varying = false;
+  /// The delayed expression reads forward sensitivities (a delay the
+  /// sensitivity equations added): its jumps are the sensitivities'.
+  bool of_sensitivities = false;
 };
 
 /// Derivatives of the event map (symbolic/event_tangents.hpp) as sections.

@@ -45,8 +45,9 @@ public:
   void set_start(std::size_t k, double value);
   /// e_k(t) = value. A record at the time of the line's last one is the value
   /// after an event there: a jump if it differs. Records earlier than the
-  /// last one are ignored (the integrator never goes back).
-  void record(std::size_t k, double t, double value);
+  /// last one are ignored (the integrator never goes back). True if this
+  /// record is a jump (a new value at the last record's time).
+  bool record(std::size_t k, double t, double value);
   /// An event is being handled at t: jumps that reach the present at t are
   /// read with their value after; a break due at t schedules the next level.
   void at_event(double t);

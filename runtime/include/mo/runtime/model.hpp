@@ -289,10 +289,14 @@ public:
   /// and at an event before and after the handler. initial_state() records
   /// the start itself. `relations_from`, before the handler of a state
   /// event: the negated crossings (as rhs_at_event), so that a relation on a
-  /// crossed indicator has its value from before the crossing.
-  virtual void record_delays(double t, std::span<const double> x, std::span<const double> u,
+  /// crossed indicator has its value from before the crossing. True if a
+  /// delayed expression of the model (not one the sensitivity equations
+  /// added) jumped: its value differs from the one recorded just before at
+  /// the same time.
+  virtual bool record_delays(double t, std::span<const double> x, std::span<const double> u,
                              std::span<const double> p, std::span<const int> relations_from = {}) {
     (void)t, (void)x, (void)u, (void)p, (void)relations_from;
+    return false;
   }
   /// The shortest delay time at the parameters of the last initial_state()
   /// (the simulator's longest step); NaN if one is not in (0, delayMax].
