@@ -24,23 +24,6 @@ bool is_relation_kind(ExprKind k) {
   return k == ExprKind::Lt || k == ExprKind::Le || k == ExprKind::Gt || k == ExprKind::Ge;
 }
 
-/// Every expression the continuous steps and outputs compute.
-std::vector<Expr> equation_roots(const OdeModel& m) {
-  std::vector<Expr> roots;
-  for (const auto& s : m.steps) {
-    if (const auto* as = std::get_if<symbolic::Assignment>(&s)) {
-      roots.push_back(as->value);
-      continue;
-    }
-    const auto& b = std::get<symbolic::EquationBlock>(s);
-    roots.insert(roots.end(), b.residuals.begin(), b.residuals.end());
-    roots.insert(roots.end(), b.offset.begin(), b.offset.end());
-    for (const auto& e : b.jacobian) roots.push_back(e.value);
-  }
-  for (const auto& y : m.outputs) roots.push_back(y.value);
-  return roots;
-}
-
 /// Copies expressions of one arena into another, leaves (and chosen nodes)
 /// replaced by given expressions of the destination.
 class Copier {
@@ -98,7 +81,7 @@ bool uses_role(const ExprArena& a, Expr e, std::initializer_list<SymbolRole> rol
 RelationMap match_relations(OdeModel& m) {
   RelationMap out;
   out.in_equations.assign(m.zero_crossings.size(), false);
-  std::vector<Expr> roots = equation_roots(m);
+  std::vector<Expr> roots = m.equation_expressions();
   const std::size_t continuous = roots.size();
   for (const auto& w : m.whens) roots.push_back(w.condition);
   std::unordered_map<Expr, bool, symbolic::ExprHash> in_equation;
@@ -314,7 +297,7 @@ private:
       info.name = phase_name(k, a.info.name);
       c.set(a.symbol, add_algebraic(info));
     }
-    std::vector<Expr> roots = equation_roots(b_);
+    std::vector<Expr> roots = b_.equation_expressions();
     for (const auto& s : b_.states) roots.push_back(s.start);
     for (const auto& s : b_.steps) {
       if (const auto* as = std::get_if<symbolic::Assignment>(&s))

@@ -294,24 +294,9 @@ private:
   /// The Delay leaves of everything the sections compute (and of the
   /// delayed expressions themselves: delay(delay(x, 1), 1)), by node id.
   std::vector<Expr> delay_leaves() const {
-    std::vector<Expr> roots;
-    for (const auto& step : m_.steps) {
-      if (const auto* as = std::get_if<symbolic::Assignment>(&step)) {
-        roots.push_back(as->value);
-        continue;
-      }
-      const auto& blk = std::get<symbolic::EquationBlock>(step);
-      roots.insert(roots.end(), blk.residuals.begin(), blk.residuals.end());
-      for (const auto& e : blk.jacobian) roots.push_back(e.value);
-      roots.insert(roots.end(), blk.offset.begin(), blk.offset.end());
-    }
-    for (const auto& y : m_.outputs) roots.push_back(y.value);
-    roots.insert(roots.end(), m_.zero_crossings.begin(), m_.zero_crossings.end());
-    for (const auto& w : m_.whens) {
-      roots.push_back(w.condition);
-      for (const auto& as : w.assignments) roots.push_back(as.value);
-      for (const auto& r : w.reinits) roots.push_back(r.value);
-    }
+    std::vector<Expr> roots = m_.equation_expressions();
+    const std::vector<Expr> events = m_.event_expressions();
+    roots.insert(roots.end(), events.begin(), events.end());
     return symbolic::delay_leaves(arena(), roots);
   }
 

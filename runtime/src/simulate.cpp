@@ -149,8 +149,6 @@ private:
   bool handle_event(double t, std::span<const int> crossings, bool time_event, bool& changed);
   Eigen::MatrixXd sensitivities() const;
   bool apply_jump(double t, detail::SensitivityJump& jump);
-  /// dτ/dp_j of the last event handled with sensitivities (empty: none).
-  std::vector<double> event_time_derivatives_;
   void harvest_statistics();
   void fail(SimulationStatus status, std::string message);
   void fail_cvode(int flag, const char* call, double t);
@@ -176,6 +174,7 @@ private:
   std::vector<std::size_t> sens_states_;   // model_states: state index of S(i, j), row-major
   int ism_ = CV_STAGGERED;
   std::vector<double> fx_values_, fp_values_, hx_values_, hp_values_;
+  std::vector<double> event_time_derivatives_;  // dτ/dp_j of the last event handled with sensitivities
 
   Context context_;
   Cvode cvode_;

@@ -117,7 +117,39 @@ void print_when(const ExprArena& a, const OdeModel& m, const WhenClause& w, std:
   out += "  end when;\n";
 }
 
+/// Appends what `steps` compute: assigned values, block residuals, offsets
+/// and Jacobian entries.
+void append_step_expressions(const std::vector<Step>& steps, std::vector<Expr>& out) {
+  for (const Step& step : steps) {
+    if (const auto* a = std::get_if<Assignment>(&step)) {
+      out.push_back(a->value);
+      continue;
+    }
+    const auto& b = std::get<EquationBlock>(step);
+    out.insert(out.end(), b.residuals.begin(), b.residuals.end());
+    out.insert(out.end(), b.offset.begin(), b.offset.end());
+    for (const auto& entry : b.jacobian) out.push_back(entry.value);
+  }
+}
+
 }  // namespace
+
+std::vector<Expr> OdeModel::equation_expressions() const {
+  std::vector<Expr> roots;
+  append_step_expressions(steps, roots);
+  for (const auto& y : outputs) roots.push_back(y.value);
+  return roots;
+}
+
+std::vector<Expr> OdeModel::event_expressions() const {
+  std::vector<Expr> roots(zero_crossings);
+  for (const WhenClause& w : whens) {
+    roots.push_back(w.condition);
+    for (const Assignment& a : w.assignments) roots.push_back(a.value);
+    for (const Reinit& r : w.reinits) roots.push_back(r.value);
+  }
+  return roots;
+}
 
 std::optional<std::size_t> OdeModel::parameter_index(std::string_view n) const {
   return find_named(parameters, n);
@@ -131,16 +163,7 @@ std::vector<bool> OdeModel::inputs_in_initial_system() const {
   std::vector<Expr> roots;
   for (const auto& s : states)
     if (s.start.valid()) roots.push_back(s.start);
-  for (const Step& step : initial_steps) {
-    if (const auto* a = std::get_if<Assignment>(&step)) {
-      roots.push_back(a->value);
-      continue;
-    }
-    const auto& b = std::get<EquationBlock>(step);
-    roots.insert(roots.end(), b.residuals.begin(), b.residuals.end());
-    roots.insert(roots.end(), b.offset.begin(), b.offset.end());
-    for (const auto& entry : b.jacobian) roots.push_back(entry.value);
-  }
+  append_step_expressions(initial_steps, roots);
   std::vector<bool> out(inputs.size(), false);
   for (Expr leaf : leaves(arena, roots)) {
     if (arena.kind(leaf) != ExprKind::Symbol) continue;

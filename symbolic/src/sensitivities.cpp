@@ -68,12 +68,7 @@ Users users(const OdeModel& m, const std::vector<StepLeaves>& steps, std::size_t
 /// True if an event expression (indicator, when-condition, reinit value,
 /// discrete assignment, sample() start or interval) reads one of `reached` (leaves that depend on p).
 bool touches_events(const OdeModel& m, const std::unordered_set<Expr, ExprHash>& reached) {
-  std::vector<Expr> roots(m.zero_crossings);
-  for (const WhenClause& w : m.whens) {
-    roots.push_back(w.condition);
-    for (const Assignment& a : w.assignments) roots.push_back(a.value);
-    for (const Reinit& r : w.reinits) roots.push_back(r.value);
-  }
+  std::vector<Expr> roots = m.event_expressions();
   for (const OdeSample& smp : m.samples) {  // the times of sample()'s events
     roots.push_back(smp.start);
     roots.push_back(smp.interval);
@@ -89,12 +84,7 @@ bool touches_events(const OdeModel& m, const std::unordered_set<Expr, ExprHash>&
 /// The event map's derivatives (event_tangents.hpp) take a delay() as a
 /// constant: refused where the delayed value depends on the parameter.
 void check_event_delays(const OdeModel& m, const std::unordered_set<Expr, ExprHash>& reached) {
-  std::vector<Expr> roots(m.zero_crossings);
-  for (const WhenClause& w : m.whens) {
-    roots.push_back(w.condition);
-    for (const Assignment& a : w.assignments) roots.push_back(a.value);
-    for (const Reinit& r : w.reinits) roots.push_back(r.value);
-  }
+  const std::vector<Expr> roots = m.event_expressions();
   for (Expr d : delay_leaves(m.arena, roots)) {
     const Expr e = m.arena.operand(d, 0);
     for (Expr l : leaves_through_delays(m.arena, std::span(&e, 1)))
@@ -167,16 +157,7 @@ struct DelayedDerivatives {
   std::vector<Expr> delays, placeholders;  ///< ascending delay ids
 
   DelayedDerivatives(OdeModel& m, const OdeParameter& par, ExprMap& seeds) {
-    std::vector<Expr> roots;
-    for (const Step& s : m.steps) {
-      if (const auto* as = std::get_if<Assignment>(&s)) {
-        roots.push_back(as->value);
-      } else {
-        const auto& b = std::get<EquationBlock>(s);
-        roots.insert(roots.end(), b.residuals.begin(), b.residuals.end());
-      }
-    }
-    for (const OdeOutput& y : m.outputs) roots.push_back(y.value);
+    const std::vector<Expr> roots = m.equation_expressions();
     ExprArena& a = m.arena;
     for (Expr d : delay_leaves(a, roots)) {
       const Expr times[] = {a.operand(d, 1), a.operand(d, 2)};

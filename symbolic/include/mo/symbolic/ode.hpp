@@ -193,6 +193,12 @@ struct OdeModel {
   /// Per input: true if the start expressions or initial_steps read it (the
   /// start values then depend on u(t0)).
   [[nodiscard]] std::vector<bool> inputs_in_initial_system() const;
+  /// Every expression the steps compute (assigned values, block residuals,
+  /// offsets and Jacobian entries), then the outputs' values.
+  [[nodiscard]] std::vector<Expr> equation_expressions() const;
+  /// The event expressions: zero crossings, then per when-clause its
+  /// condition, assigned values and reinit values.
+  [[nodiscard]] std::vector<Expr> event_expressions() const;
 };
 
 /// The model as flat Modelica that parses and simulates again: declarations
