@@ -72,6 +72,7 @@ public:
   }
   std::span<double> discrete() override { return inner_->discrete(); }
   std::string last_failure() const override { return inner_->last_failure(); }
+  std::vector<std::string> notes() const override { return inner_->notes(); }
 
 private:
   std::unique_ptr<runtime::Model> inner_;

@@ -256,6 +256,7 @@ int run(const Options& opt, tools::RunContext& ctx) {
   runtime::write_file_atomic((fs::path(opt.output) / "summary.json").string(),
                              [&](std::ostream& os) { os << summary.dump(2) << "\n"; });
   if (!model->last_failure().empty()) std::cerr << "morun: model: " << model->last_failure() << "\n";
+  for (const auto& w : checked.warnings) std::cerr << "morun: warning: " << w << "\n";
   if (!checked.ok()) {
     std::cerr << "morun: simulation failed: " << runtime::to_string(checked.status) << ": "
               << checked.message << "\n";

@@ -438,7 +438,7 @@ private:
     code.seed_t = slots_->of(t.seed_t);
     new_section("event_rhs", code.rhs);
     auto b = event_builder({});
-    emit_steps(b, code.rhs, m_.steps, "event right-hand side");
+    emit_steps(m_.steps, code.rhs, b, "");  // the model's blocks, described as in the steps
     for (const auto& x : m_.states) b.root(x.derivative, p_.sections[static_cast<std::size_t>(code.rhs)]);
     new_section("event_tangent", code.tangent);
     auto bt = event_builder(b.valid());

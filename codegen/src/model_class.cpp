@@ -385,6 +385,7 @@ public:
 
   std::span<double> discrete() override { return {w_.data() + d_slot, nd}; }
   std::string last_failure() const override { return ws_.failure; }
+  std::vector<std::string> notes() const override { return mo::runtime::generated::singular_notes(ws_); }
 
 private:
   static std::size_t index(mo::runtime::Jacobian block) { return static_cast<std::size_t>(block); }
@@ -393,6 +394,7 @@ private:
   /// no delay history.
   void reset() {
     ws_.delays.reset(ndelay);
+    ws_.singular.clear();
     reset_discrete();
     for (std::size_t i = 0; i < nnewton; ++i) w_[static_cast<std::size_t>(newton_slots[i])] = newton_start[i];
     event_time_ = std::numeric_limits<double>::quiet_NaN();

@@ -148,6 +148,30 @@ bool least_squares_step(const NonlinearBlock& b, const double* w, BlockWorkspace
 
 namespace {
 
+/// The singular block's minimum-norm solution z (into `rhs`, which holds -c)
+/// from its matrix `a` (row-major), counted in ws.singular; false if its
+/// equations contradict each other (then `rhs` is unchanged).
+bool solve_singular(const LinearBlock& block, std::span<const double> a, std::span<double> rhs,
+                    BlockWorkspace& ws) {
+  if (!solve_minimum_norm(a, rhs)) return false;
+  // By text: a section solving the model's steps again (the event
+  // right-hand side) describes its blocks as the steps do.
+  const std::string_view description(block.description);
+  auto it = std::find_if(ws.singular.begin(), ws.singular.end(),
+                         [&](const BlockWorkspace::SingularSolves& s) { return s.description == description; });
+  if (it == ws.singular.end()) it = ws.singular.insert(it, {block.description, 0, ws.time});
+  ++it->count;
+  it->earliest = std::min(it->earliest, ws.time);  // a step tried beyond an event comes first
+  return true;
+}
+
+/// Why a singular block could not be solved.
+constexpr const char* kContradiction = "the matrix is singular and its equations contradict each other";
+
+/// The largest singular block solved densely by its minimum-norm solution
+/// (O(n³) per solve); a larger one fails as singular.
+constexpr Size kMinimumNormMaxSize = 400;
+
 /// solve_linear for a block of kSparseBlockSize unknowns or more: sparse LU,
 /// the factors reused while the entries' values stay the same.
 bool solve_linear_sparse(const LinearBlock& block, double* w, BlockWorkspace& ws) {
@@ -163,7 +187,16 @@ bool solve_linear_sparse(const LinearBlock& block, double* w, BlockWorkspace& ws
     return fail(block.description, block.unknowns, n, w, ws,
                 "its coefficients are not finite (a value it uses is NaN or infinite)");
   const std::string why = solve_sparse(f, block);
-  if (!why.empty()) return fail(block.description, block.unknowns, n, w, ws, why);
+  if (!why.empty()) {
+    if (n > kMinimumNormMaxSize) return fail(block.description, block.unknowns, n, w, ws, why);
+    ws.a.assign(n * n, 0.0);  // J dense, for its minimum-norm solution
+    for (int k = 0; k < block.num_entries; ++k)
+      ws.a[static_cast<Size>(block.entries[k].row) * n + static_cast<Size>(block.entries[k].col)] =
+          f.values[static_cast<Size>(k)];
+    for (Size i = 0; i < n; ++i) f.rhs[i] = -w[block.offsets[i]];
+    if (!solve_singular(block, ws.a, f.rhs, ws))
+      return fail(block.description, block.unknowns, n, w, ws, kContradiction);
+  }
   for (Size i = 0; i < n; ++i) w[block.unknowns[i]] = f.rhs[i];
   return true;
 }
@@ -185,16 +218,34 @@ bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws) {
                   "its coefficients are not finite (a value it uses is NaN or infinite)");
     ws.lu = ws.a;
     ws.lu_pivots.resize(n);
-    if (!lu_factor(ws.lu, ws.lu_pivots))
-      return fail(block.description, block.unknowns, n, w, ws, "the matrix is singular");
-    ws.factored = ws.a;
+    if (lu_factor(ws.lu, ws.lu_pivots)) ws.factored = ws.a;
   }
   if (!std::all_of(ws.b.begin(), ws.b.end(), finite))
     return fail(block.description, block.unknowns, n, w, ws,
                 "its coefficients are not finite (a value it uses is NaN or infinite)");
-  lu_solve(ws.lu, ws.lu_pivots, ws.b);
+  if (ws.factored.empty()) {  // singular: not factorised
+    if (!solve_singular(block, ws.a, ws.b, ws))
+      return fail(block.description, block.unknowns, n, w, ws, kContradiction);
+  } else {
+    lu_solve(ws.lu, ws.lu_pivots, ws.b);
+  }
   for (Size i = 0; i < n; ++i) w[block.unknowns[i]] = ws.b[i];
   return true;
+}
+
+std::vector<std::string> singular_notes(const BlockWorkspace& ws) {
+  std::vector<std::string> out;
+  for (const auto& s : ws.singular) {
+    const std::string_view d(s.description);
+    // The model's own blocks; the sections derived from them (Jacobian-vector
+    // products, event tangents, ...) solve the same matrices.
+    if (!d.starts_with("linear block ") && !d.starts_with("initial system: linear block ")) continue;
+    out.push_back(fmt::format("{} was singular in {} solve{}, the earliest at t = {}: its equations leave part of it "
+                              "undetermined, and their minimum-norm solution was taken",
+                              d.substr(0, std::min(d.find('\n'), d.size())), s.count, s.count == 1 ? "" : "s",
+                              s.earliest));
+  }
+  return out;
 }
 
 namespace {

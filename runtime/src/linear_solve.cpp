@@ -1,6 +1,9 @@
-// Doolittle LU with partial pivoting; see linear_solve.hpp.
+// Doolittle LU with partial pivoting, and the minimum-norm solution of a
+// singular system; see linear_solve.hpp.
 #include "mo/runtime/linear_solve.hpp"
 
+#include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <utility>
@@ -52,6 +55,29 @@ void lu_solve(std::span<const double> lu, std::span<const int> pivots, std::span
 bool solve_dense(std::span<double> a, std::span<int> pivots, std::span<double> b) {
   if (!lu_factor(a, pivots)) return false;
   lu_solve(a, pivots, b);
+  return true;
+}
+
+bool solve_minimum_norm(std::span<const double> a, std::span<double> b) {
+  const auto n = static_cast<Eigen::Index>(b.size());
+  if (!std::all_of(a.begin(), a.end(), [](double v) { return std::isfinite(v); }) ||
+      !std::all_of(b.begin(), b.end(), [](double v) { return std::isfinite(v); }))
+    return false;
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> m(a.data(), n, n);
+  const Eigen::Map<const Eigen::VectorXd> rhs(b.data(), n);
+  Eigen::CompleteOrthogonalDecomposition<Eigen::MatrixXd> cod(n, n);
+  cod.setThreshold(1e-12);
+  cod.compute(m);
+  const Eigen::VectorXd z = cod.solve(rhs);
+  if (!z.allFinite()) return false;
+  // Rounding leaves each residual near eps·Σ_j |a_ij| max|z| (the whole
+  // system's error spreads into every row's unknowns), however small that
+  // row's own terms.
+  const Eigen::VectorXd residual = m * z - rhs;
+  const Eigen::VectorXd magnitude = m.cwiseAbs().rowwise().sum() * z.lpNorm<Eigen::Infinity>() + rhs.cwiseAbs();
+  for (Eigen::Index i = 0; i < n; ++i)
+    if (!(std::fabs(residual[i]) <= 1e-9 * magnitude[i])) return false;
+  std::copy(z.begin(), z.end(), b.begin());
   return true;
 }
 

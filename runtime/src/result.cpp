@@ -174,6 +174,7 @@ std::string summary_json(const SimulationResult& result) {
   nlohmann::json j = {
       {"status", std::string(to_string(result.status))},
       {"message", result.message},
+      {"warnings", result.warnings},
       {"statistics",
        {{"steps", s.steps},
         {"rhs_evaluations", s.rhs_evaluations},

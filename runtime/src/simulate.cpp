@@ -708,6 +708,7 @@ SimulationResult Simulation::run() {
 
   auto finish = [&]() -> SimulationResult {
     if (cvode_.mem) harvest_statistics();
+    result_.warnings = model_.notes();
     result_.statistics.wall_time_seconds =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
     return std::move(result_);

@@ -111,14 +111,29 @@ TEST_CASE("cart pendulum: simulation equals the hand-written fixture's") {
     for (std::size_t j = 0; j < 6; ++j) CHECK(close(mine.trajectory.at(k, j), theirs.trajectory.at(k, j), 1e-7));
 }
 
-TEST_CASE("a singular linear block gives NaN and says which block, at which time") {
+TEST_CASE("a singular linear block: its minimum-norm solution if consistent, else NaN and which block") {
   auto model = compiled("cart_pendulum", cart_pendulum);
-  std::vector<double> xdot(4), x{0, 0, 0, 0}, u{1}, p{2, 15, 0, 0.5, 0.5};  // m2 = 0: J singular
-  model->rhs(1.5, x, u, p, xdot);
+  // m2 = 0: the pendulum's row is 0·der(v) + 0·der(w) = -d2·w.
+  std::vector<double> xdot(4), x{0, 0, 0, 0.3}, u{1}, p{2, 15, 0, 0.5, 0.5};
+  model->rhs(1.5, x, u, p, xdot);  // w ≠ 0: the row contradicts itself
   CHECK(std::isnan(xdot[2]));
   CHECK(std::isnan(xdot[3]));
-  CHECK(model->last_failure() == "linear block 1 for der(v), der(w) at t = 1.5: the matrix is singular");
+  CHECK(model->last_failure() ==
+        "linear block 1 for der(v), der(w) at t = 1.5: the matrix is singular and its equations contradict each other");
+  x[3] = 0;  // w = 0: der(w) undetermined, its least-norm value 0; der(v) = F/m1
+  model->rhs(1.5, x, u, p, xdot);
+  CHECK(xdot[2] == Approx(0.5).epsilon(1e-14));
+  CHECK(xdot[3] == 0.0);
+  CHECK(model->last_failure().empty());
+  const std::vector<double> start(4, 0.0);
+  std::vector<double> x0(4);
+  model->initial_state(0.0, u, p, x0);  // notes count from here
+  CHECK(model->notes().empty());
+  model->rhs(1.5, start, u, p, xdot);
+  REQUIRE(model->notes().size() == 1);
+  CHECK(model->notes()[0].find("linear block 1 for der(v), der(w) was singular in 1 solve, the earliest at t = 1.5:") == 0);
   p[2] = 1;
+  x[3] = 0.3;
   model->rhs(1.5, x, u, p, xdot);
   CHECK(std::isfinite(xdot[3]));
   CHECK(model->last_failure().empty());

@@ -89,17 +89,23 @@ inline std::unique_ptr<runtime::Model> compiled_model(const std::string& name, c
   return entry.loaded->create();
 }
 
+/// The folder ../shared beside the checkout, else $MO_SHARED_DIR; empty if
+/// neither has third_party/ (the tests that read it are then skipped).
+inline std::string shared_third_party_dir() {
+  namespace fs = std::filesystem;
+  if (fs::is_directory(fs::path(MO_SOURCE_DIR) / ".." / "shared" / "third_party"))
+    return (fs::path(MO_SOURCE_DIR) / ".." / "shared").string();
+  if (const char* env = std::getenv("MO_SHARED_DIR"); env && fs::is_directory(fs::path(env) / "third_party"))
+    return env;
+  return {};
+}
+
 /// compiled_model() of a spec that reads the Modelica Standard Library 3.2.2 of
 /// ../shared (beside the checkout, else $MO_SHARED_DIR), found by Modelica's
 /// lookup on MODELICAPATH as a user runs it (restored afterwards); null, with
 /// a "SKIPPED" warning, when there is no such folder.
 inline std::unique_ptr<runtime::Model> msl_compiled_model(const std::string& name, const ModelSpec& spec) {
-  namespace fs = std::filesystem;
-  std::string shared;
-  if (fs::is_directory(fs::path(MO_SOURCE_DIR) / ".." / "shared" / "third_party"))
-    shared = (fs::path(MO_SOURCE_DIR) / ".." / "shared").string();
-  else if (const char* env = std::getenv("MO_SHARED_DIR"); env && fs::is_directory(env))
-    shared = env;
+  const std::string shared = shared_third_party_dir();
   if (shared.empty()) {
     WARN("SKIPPED: no ../shared/third_party (set MO_SHARED_DIR)");
     return nullptr;

@@ -150,6 +150,14 @@ struct BlockWorkspace {
   std::unordered_map<const NonlinearBlock*, std::vector<Solution>> solutions;
   bool follow_time = true;  ///< false: Newton starts from w as it is, and the solutions are kept
   std::string failure;              ///< why the first failed block of this evaluation failed; empty if none
+  /// Linear blocks found singular and solved by their minimum-norm solution
+  /// (solve_linear), in the order first met; cleared by the model's reset.
+  struct SingularSolves {
+    const char* description;  ///< the block's
+    long count;               ///< solves since the reset
+    double earliest;          ///< the earliest model time of one
+  };
+  std::vector<SingularSolves> singular;
   DelayLines delays;                ///< the model's delay() histories (generated models with delays)
   NewtonOptions newton;             ///< settings
 };
@@ -159,10 +167,18 @@ struct BlockWorkspace {
 double delay_value(BlockWorkspace& ws, std::size_t line, double delay_time);
 
 /// Solves the linear block; writes z into w[unknowns] (with the factors of
-/// ws.lu when J equals ws.factored, bit for bit). On a singular J, sets
-/// the unknowns to NaN, records the failure in ws.failure (unless an earlier
-/// block of the same evaluation failed first: that one is the cause), returns false.
+/// ws.lu when J equals ws.factored, bit for bit). A singular J whose
+/// equations are consistent (two stuck friction elements holding one shaft,
+/// a term whose coefficient a parameter set to 0) leaves part of z
+/// undetermined: the minimum-norm solution is taken (solve_minimum_norm, as
+/// JModelica does) and counted in ws.singular. If they contradict each other,
+/// sets the unknowns to NaN, records the failure in ws.failure (unless an
+/// earlier block of the same evaluation failed first: that one is the
+/// cause), returns false.
 bool solve_linear(const LinearBlock& block, double* w, BlockWorkspace& ws);
+
+/// One line per block of ws.singular: which block, how often, the earliest time.
+std::vector<std::string> singular_notes(const BlockWorkspace& ws);
 
 /// Solves the nonlinear block by damped Newton from w[unknowns], in units of
 /// the unknowns' nominal values, keeping every iterate within [lower, upper]

@@ -24,4 +24,14 @@ void lu_solve(std::span<const double> lu, std::span<const int> pivots, std::span
 /// Returns false if A is singular (see lu_factor); b is then unspecified.
 bool solve_dense(std::span<double> a, std::span<int> pivots, std::span<double> b);
 
+/// A z = b for a singular A (row-major n × n, b.size() == n): the solution of
+/// least Euclidean norm, by a complete orthogonal decomposition whose rank
+/// counts singular directions above 1e-12 of the largest. Returns true and
+/// overwrites b with z if the equations are consistent, i.e. every residual
+/// |(A z - b)_i| is within 1e-9 of its row's magnitude Σ_j |a_ij| max_j |z_j| + |b_i|
+/// (the statically indeterminate torque of two stuck brakes on one shaft);
+/// false, b unchanged, if they contradict each other or a value is not finite.
+/// O(n³): for the blocks of generated models after LU has failed.
+bool solve_minimum_norm(std::span<const double> a, std::span<double> b);
+
 }  // namespace mo::runtime

@@ -309,6 +309,11 @@ public:
   /// a singular linear block, a nonlinear block that did not converge); empty
   /// otherwise. Cleared by the next evaluation that succeeds.
   [[nodiscard]] virtual std::string last_failure() const { return {}; }
+
+  /// What the model's equation solvers did since the last initial_state()
+  /// that its user should know, one line each (a linear block found singular
+  /// and solved by its minimum-norm solution); empty if nothing.
+  [[nodiscard]] virtual std::vector<std::string> notes() const { return {}; }
 };
 
 }  // namespace mo::runtime

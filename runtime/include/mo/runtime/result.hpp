@@ -111,6 +111,9 @@ struct SimulationResult {
   /// CVODES tried and rejected (it then retries with a smaller one). When the
   /// run fails, the likely cause; the caller can name its equation.
   std::optional<NonFinitePoint> non_finite_rhs;
+  /// What the model's solvers report about the run (Model::notes()): e.g. a
+  /// singular linear block solved by its minimum-norm solution.
+  std::vector<std::string> warnings;
 
   /// True if status is success or terminated_by_model.
   [[nodiscard]] bool ok() const {
