@@ -157,7 +157,9 @@ def run(row, step, cmd, env, timeout):
         row["why"] = "%s: timeout after %g s" % (step, timeout)
         return None
     if p.returncode != 0:
-        row["why"] = "%s: %s" % (step, first_error(p.stderr))
+        # Example.mo's temporary folder named: the same text on every run
+        why = first_error(p.stderr).replace(os.path.dirname(cmd[1]) + os.sep, "")
+        row["why"] = "%s: %s" % (step, why)
         return None
     return p
 
