@@ -631,6 +631,15 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
       return string_call(e, s);
     if (!e.named.empty() && !lookup_called_class(e, s))
       fail(DiagId::Unsupported, e.range, "named arguments are only supported for homotopy()");
+    if (name == "smooth" && e.args.size() == 2) { // of an array: of each element (Math.Vectors.normalize)
+      ExprPtr order = scalar_expr(*e.args[0], s);
+      return elementwise(arg(1), [&](ExprPtr x) {
+        std::vector<ExprPtr> v;
+        v.push_back(order->clone());
+        v.push_back(std::move(x));
+        return ast::make_call(name, std::move(v), e.range);
+      });
+    }
     if (const BuiltinInfo *b = find_builtin(name)) {
       want_args(b->min_args, b->max_args);
       if (b->elementwise && e.args.size() == 1) {

@@ -20,6 +20,7 @@
 #include "mo/frontend/printer.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <functional>
 #include <limits>
 #include <map>
@@ -109,11 +110,15 @@ bool literals_only(const Expr &e) {
   return true;
 }
 
+} // namespace
+
 /// The elements and algorithms of a function, bases first.
 struct Signature {
   std::vector<std::pair<const ast::Component *, ClassNode *>> inputs, outputs, locals;
   std::vector<std::pair<const std::vector<Statement> *, ClassNode *>> algorithms;
 };
+
+namespace {
 
 void collect(Flattener &f, ClassNode *cls, Signature &sig, unsigned depth) {
   if (!cls || !cls->def || depth > 32)
@@ -1050,6 +1055,35 @@ std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &si
 
 } // namespace
 
+/// The dimensions D over which a call is vectorized (MLS 12.4.6): arguments
+/// that have more dimensions than their input's declaration, D in front
+/// (the same D for all of them), the others as declared. Empty when no
+/// argument has more, or when an input is a record. Only the declared
+/// number of dimensions is compared here; their sizes are checked per call.
+std::vector<int> vectorized_dims(Flattener &f, const Signature &sig, const std::vector<bool> &given,
+                                 const std::vector<Tensor> &arguments, const Expr &call) {
+  std::vector<int> over;
+  for (std::size_t i = 0; i < sig.inputs.size(); ++i) {
+    if (!given[i] || arguments[i].record)
+      continue;
+    const auto &[c, owner] = sig.inputs[i];
+    ResolvedType rt;
+    if (!f.resolve_type(owner, c->type, rt) || !rt.is_builtin)
+      return {};
+    const std::size_t declared = c->dims.size() + rt.dims.size();
+    const std::vector<int> &dims = arguments[i].dims;
+    if (dims.size() <= declared)
+      continue;
+    const std::vector<int> extra(dims.begin(), dims.end() - static_cast<long>(declared));
+    if (!over.empty() && extra != over)
+      f.fail(DiagId::TypeMismatch, call.range,
+             fmt::format("the arguments of a vectorized call have different sizes ([{}] and [{}])",
+                         fmt::join(over, ", "), fmt::join(extra, ", ")));
+    over = extra;
+  }
+  return over;
+}
+
 bool Flattener::call_statement(ClassNode *fn, const Expr &call, const Scope &s) {
   const ast::ClassDef &def = *fn->def;
   if (!def.is_external || def.external_language != "C")
@@ -1137,6 +1171,51 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
       arguments[i] = expr(*args[i], s);
       given[i] = true;
     }
+  if (const std::vector<int> over = vectorized_dims(*this, sig, given, arguments, call); !over.empty()) {
+    std::vector<Tensor> out;
+    out.push_back(call_elementwise(fn, sig, given, arguments, call, over));
+    return out;
+  }
+  return inline_or_evaluate(fn, sig, given, std::move(arguments), call, wanted);
+}
+
+Tensor Flattener::call_elementwise(ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
+                                   const std::vector<Tensor> &arguments, const Expr &call,
+                                   const std::vector<int> &over) {
+  std::size_t count = 1;
+  for (int d : over)
+    count *= static_cast<std::size_t>(d);
+  Tensor out;
+  for (std::size_t k = 0; k < count; ++k) {
+    std::vector<Tensor> element(arguments.size());
+    for (std::size_t i = 0; i < arguments.size(); ++i) {
+      if (!given[i])
+        continue;
+      const Tensor &a = arguments[i];
+      if (a.dims.size() < over.size() || !std::equal(over.begin(), over.end(), a.dims.begin())) {
+        element[i] = clone_tensor(a); // given with its declared size: the same in every call
+        continue;
+      }
+      element[i].dims.assign(a.dims.begin() + static_cast<long>(over.size()), a.dims.end());
+      const std::size_t stride = a.elems.size() / count;
+      for (std::size_t j = 0; j < stride; ++j)
+        element[i].elems.push_back(a.elems[k * stride + j]->clone());
+    }
+    Tensor r = std::move(inline_or_evaluate(fn, sig, given, std::move(element), call, 1).front());
+    if (r.record)
+      fail(DiagId::Unsupported, call.range, "a vectorized call of '" + fn->path() + "' returns records");
+    if (k == 0)
+      out.dims = over, out.dims.insert(out.dims.end(), r.dims.begin(), r.dims.end());
+    for (auto &e : r.elems)
+      out.elems.push_back(std::move(e));
+  }
+  return out;
+}
+
+std::vector<Tensor> Flattener::inline_or_evaluate(ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
+                                                  std::vector<Tensor> arguments, const Expr &call,
+                                                  std::size_t wanted) {
+  const std::string fn_name = fn->path();
   ++function_depth_;
   struct DepthGuard {
     unsigned &d;

@@ -252,21 +252,36 @@ bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, Resolv
   }
   // `type T extends Real(...)`-style long types: a type class whose only
   // content is `extends <builtin>`; likewise `connector C extends Real; end C;`.
+  // The base may itself be a type of a built-in (MultiBody's quaternion
+  // `type Orientation extends Internal.QuaternionBase` with
+  // `type QuaternionBase = Real[4]`, beside its equalityConstraint function).
   const bool long_type = cls->def && cls->def->components.empty() &&
                          (cls->def->restriction == ast::Restriction::Type ||
                           cls->def->restriction == ast::Restriction::Connector);
-  if (long_type) {
-    for (const auto &ext : cls->def->extends)
-      if (ext.base.parts.size() == 1 && builtin_type(ext.base.parts[0], bt)) {
-        if (cls->def->restriction == ast::Restriction::Connector)
-          out.is_connector = true;
-        Modifier m = make_modifier(ext.mod, nullptr, cls);
-        merge_into(m, out.mod);
-        out.mod = std::move(m);
-        out.is_builtin = true;
-        out.builtin = bt;
-        return true;
-      }
+  if (long_type && cls->def->extends.size() == 1) {
+    const auto &ext = cls->def->extends.front();
+    ResolvedType base;
+    if (ext.base.parts.size() == 1 && builtin_type(ext.base.parts[0], bt)) {
+      base.is_builtin = true;
+      base.builtin = bt;
+    } else if (!resolve_type(cls->parent, ext.base, base, nullptr)) {
+      return false;
+    }
+    if (base.is_builtin) {
+      if (cls->def->restriction == ast::Restriction::Connector || base.is_connector)
+        out.is_connector = true;
+      Modifier m = make_modifier(ext.mod, nullptr, cls);
+      merge_into(base.mod, m);
+      merge_into(base.mod, out.mod);
+      out.mod = std::move(base.mod);
+      out.dims.insert(out.dims.end(), base.dims.begin(), base.dims.end());
+      if (out.causality == ast::Causality::None)
+        out.causality = base.causality;
+      out.is_builtin = true;
+      out.builtin = base.builtin;
+      out.is_enumeration = base.is_enumeration;
+      return true;
+    }
   }
   out.cls = cls;
   return true;

@@ -51,6 +51,7 @@ struct Library::Impl {
 namespace detail {
 
 struct Instance;
+struct Signature; // a function's elements (flatten_functions.cpp)
 
 /// Appends the index of every variable referenced in `eq`, its branches'
 /// conditions and bodies included (repeats possible; iterative, no recursion).
@@ -360,6 +361,16 @@ public:
   /// Reports what cannot be inlined and throws Reported.
   std::vector<Tensor> call_function(ClassNode *fn, const ast::Expr &call, const Scope &s,
                                     std::size_t wanted = 1);
+  /// call_function on flattened arguments: inlined, or evaluated now where
+  /// the algorithm cannot be inlined and the arguments are parameters.
+  std::vector<Tensor> inline_or_evaluate(ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
+                                         std::vector<Tensor> arguments, const ast::Expr &call,
+                                         std::size_t wanted);
+  /// A vectorized call (MLS 12.4.6): `fn` once per index of `over`, the
+  /// arguments that have those leading dimensions sliced; the first outputs
+  /// as one array of dimensions `over` then the output's own.
+  Tensor call_elementwise(ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
+                          const std::vector<Tensor> &arguments, const ast::Expr &call, const std::vector<int> &over);
   /// A call statement of function `fn` without outputs that has an effect
   /// the tool provides (the impure random generator's state); false if none.
   bool call_statement(ClassNode *fn, const ast::Expr &call, const Scope &s);

@@ -159,3 +159,72 @@ TEST_CASE("reductions with iterators evaluate in parameter bindings", "[arrays]"
   CHECK(c.model->variables[c.model->find("total")].value == 10.0);
   CHECK(c.model->variables[c.model->find("weighted")].value == 4.0 + 2 + 9 + 8);
 }
+
+TEST_CASE("a function of scalars applied to arrays is called per element (MLS 12.4.6)", "[arrays][functions]") {
+  Compiled c = compile_text(R"(
+    model Vectorized
+      function scale
+        input Real x;
+        input Real k = 2;
+        output Real y;
+      algorithm
+        y := k*x;
+      end scale;
+      function dot2 "a vector input: only the extra leading dimension is vectorized"
+        input Real a[2];
+        input Real b[2];
+        output Real y;
+      algorithm
+        y := a[1]*b[1] + a[2]*b[2];
+      end dot2;
+      Real v[3] = scale({1, 2, 3}*time);
+      Real w[2, 3] = scale({{1, 2, 3}, {4, 5, 6}}*time, 3);
+      Real d[3] = dot2({{1, 0}, {0, 1}, {1, 1}}*time, {1, 2});
+      Real s[2] = smooth(0, {time, -time});
+    end Vectorized;)");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string s = c.model->print();
+  CHECK(s.find("`v[3]` = 2 * (3 * time);") != std::string::npos);
+  CHECK(s.find("`w[2,1]` = 3 * (4 * time);") != std::string::npos);
+  CHECK(s.find("`d[3]` = 1 * time * 1 + 1 * time * 2;") != std::string::npos);
+  CHECK(s.find("`s[2]` = smooth(0, -time);") != std::string::npos);
+  // Arguments that disagree on the vectorized dimensions are reported.
+  Compiled bad = compile_text(R"(
+    model Bad
+      function add
+        input Real a;
+        input Real b;
+        output Real y;
+      algorithm
+        y := a + b;
+      end add;
+      Real y[2] = add({1, 2}*time, {1, 2, 3});
+    end Bad;)");
+  CHECK_FALSE(bad.ok());
+  CHECK(bad.diagnostics.find("the arguments of a vectorized call have different sizes ([2] and [3])") !=
+        std::string::npos);
+}
+
+TEST_CASE("a long type extending a type of a built-in takes its attributes (MultiBody's quaternions)", "[arrays]") {
+  Compiled c = compile_text(R"(
+    model Quaternions
+      type Base = Real[4](each unit = "1");
+      type Orientation "extends a type of a built-in, with a function inside"
+        extends Base;
+        function norm2
+          input Orientation q;
+          output Real r;
+        algorithm
+          r := q*q;
+        end norm2;
+      end Orientation;
+      Orientation Q(start = {0, 0, 0, 1}, each stateSelect = StateSelect.prefer);
+    equation
+      der(Q) = {0, 0, 0, 0};
+    end Quaternions;)");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string s = c.model->print();
+  CHECK(s.find("Real `Q[4]`(start = 1, unit = \"1\", stateSelect = StateSelect.prefer);") != std::string::npos);
+}
