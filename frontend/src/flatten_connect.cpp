@@ -80,6 +80,7 @@ void Flattener::connect(const ast::Equation &eq, const Scope &s) {
     connect_pair(side[0][i], outside[0], side[1][i], outside[1], eq.range);
 }
 
+
 bool Flattener::only_connections(const ast::Equation &eq) {
   if (eq.kind == ast::EquationKind::Connect)
     return true;
@@ -115,6 +116,8 @@ void Flattener::connect_pair(Instance *a, bool a_out, Instance *b, bool b_out, S
     if (x->dims != y->dims)
       fail(DiagId::ConnectIncompatible, where,
            "cannot connect '" + x->flat + "' and '" + y->flat + "': their array sizes differ");
+    if (is_overdetermined(*x) && is_overdetermined(*y)) // an edge of the connection graph too (MLS 9.4)
+      graph_.connections.push_back({x, y, where});
     if (!x->dims.empty()) {
       for (std::size_t i = 0; i < x->elements.size(); ++i)
         work.emplace_back(x->elements[i].get(), y->elements[i].get());

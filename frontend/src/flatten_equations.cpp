@@ -110,6 +110,8 @@ void Flattener::flatten_bindings() {
   for (auto &p : pending_) {
     if (!p.mod.binding)
       continue; // already flattened on demand (a parameter used as a size)
+    if (!graph_closed_ && reads_connection_graph(*p.mod.binding))
+      continue; // once the connection graph is known (flatten_equations)
     try {
       flat::Variable &v = model_->variables[p.var];
       const std::string &a = p.attribute;
@@ -179,15 +181,21 @@ void Flattener::flatten_equations(Instance &top) {
   for (std::size_t k = 0; k < all_instances_.size(); ++k) {
     Instance *inst = all_instances_[k];
     for (auto &[eq, cls] : inst->equations) {
-      if (!only_connections(*eq))
-        continue;
       try {
-        equation(*eq, Scope{inst, cls, nullptr}, model_->equations);
+        if (only_connections(*eq))
+          equation(*eq, Scope{inst, cls, nullptr}, model_->equations);
+        else
+          collect_graph_statements(*eq, Scope{inst, cls, nullptr});
       } catch (Reported &) {
       }
     }
   }
   connections_counted_ = true;
+  try {
+    close_connection_graph();
+  } catch (Reported &) {
+  }
+  flatten_bindings(); // those that read the graph
   for (std::size_t k = 0; k < all_instances_.size(); ++k) {
     Instance *inst = all_instances_[k];
     for (auto &[eq, cls] : inst->equations) {
@@ -463,6 +471,8 @@ void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<as
   case EquationKind::Call: {
     const Expr &call = *eq.lhs;
     const std::string n = call.ref.str();
+    if (is_connections_statement(eq))
+      return; // collected before (collect_graph_statements)
     if (n == "reinit") {
       if (!s.in_when)
         fail(DiagId::Unsupported, eq.range, "reinit() is only allowed inside a when-clause");

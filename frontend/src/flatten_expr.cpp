@@ -619,6 +619,8 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
   };
   if (Tensor t; array_function(e, s, t))
     return t;
+  if (name == "Connections.isRoot" || name == "Connections.rooted" || name == "rooted")
+    return Tensor::scalar(ast::make_bool(connections_query(e, s), e.range));
   if (e.ref.is_simple()) {
     if (name == "homotopy") {
       for (const auto &na : e.named)

@@ -784,7 +784,65 @@ ClassNode *Flattener::lookup_called_class(const Expr &call, const Scope &s) {
     path.push_back(part.name);
   }
   ClassNode *cls = lookup_class(s.cls ? s.cls : &lib_.root, path, call.ref.global, call.range, false);
+  if (!cls && path.size() >= 2 && !call.ref.global)
+    cls = function_of_instance(call, s).second;
   return cls && cls->def ? cls : nullptr;
+}
+
+std::pair<Instance *, ClassNode *> Flattener::function_of_instance(const Expr &call, const Scope &s) {
+  const auto &parts = call.ref.parts;
+  Instance *owner = s.inst;
+  for (std::size_t p = 0; owner && p + 1 < parts.size(); ++p)
+    owner = parts[p].subscripts.empty() && owner->dims.empty() ? member(*owner, parts[p].name) : nullptr;
+  if (!owner || owner == s.inst || !owner->cls || !owner->dims.empty())
+    return {nullptr, nullptr};
+  const std::string &name = parts.back().name;
+  ClassNode *fn = owner->replaced.count(name) ? owner->replaced.at(name) : find_member_class(owner->cls, name);
+  if (!fn || !fn->def || fn->def->restriction != ast::Restriction::Function)
+    return {nullptr, nullptr};
+  return {owner, fn};
+}
+
+ClassNode *Flattener::short_function_base(ClassNode *fn, Instance *owner, const Expr &call,
+                                          std::vector<std::pair<std::string, Tensor>> &preset) {
+  for (unsigned hops = 0; fn && fn->def && fn->def->short_base; ++hops) {
+    if (hops > 32)
+      fail(DiagId::ExtendsCycle, call.range, "function '" + fn->path() + "' is defined in terms of itself");
+    const ast::ClassDef &d = *fn->def;
+    // Where it is written: the owner's class (or a base of it), or an
+    // enclosing instance's, for a redeclaration in a modifier there
+    // (`world(redeclare function gravityAcceleration = f(phi = latitude))`).
+    const std::function<bool(ClassNode *, unsigned)> is_or_extends = [&](ClassNode *c, unsigned depth) {
+      if (c == fn->parent)
+        return true;
+      if (!c || depth > 32)
+        return false;
+      for (auto &[ext, base] : bases(c))
+        if (is_or_extends(base, depth + 1))
+          return true;
+      return false;
+    };
+    Instance *in = owner;
+    while (in && !is_or_extends(in->cls, 0))
+      in = in->parent;
+    if (!in)
+      in = owner;
+    const Scope where{in, in ? in->cls : fn->parent, nullptr};
+    for (const ast::ElementMod &m : d.class_mod.args) {
+      if (m.redeclare || m.path.size() != 1 || !m.mod.binding || !m.mod.args.empty())
+        fail(DiagId::Unsupported, m.range,
+             "function '" + fn->path() + "': only modifiers that bind an input ('k = e') are supported");
+      const bool known = std::any_of(preset.begin(), preset.end(), [&](const auto &v) { return v.first == m.path[0]; });
+      if (!known)
+        preset.emplace_back(m.path[0], expr(*m.mod.binding, where));
+    }
+    ClassNode *base = lookup_class(fn->parent, d.short_base->parts, d.short_base->global, d.short_base->range);
+    if (!base)
+      throw Reported{};
+    fn = base;
+    owner = nullptr; // a base's own short definition binds in its own package
+  }
+  return fn;
 }
 
 ClassNode *Flattener::lookup_function(const Expr &call, const Scope &s) {
@@ -1098,15 +1156,20 @@ bool Flattener::call_statement(ClassNode *fn, const Expr &call, const Scope &s) 
 }
 
 std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, const Scope &s,
-                                             std::size_t wanted) {
+                                             std::size_t wanted, std::vector<std::pair<std::string, Tensor>> preset) {
   const ast::ClassDef &def = *fn->def;
   const std::string fn_name = fn->path();
   if (function_depth_ >= kMaxCallDepth)
     fail(DiagId::Unsupported, call.range,
          fmt::format("function calls nested deeper than {} (a recursive function?) cannot be inlined",
                      kMaxCallDepth));
-  if (def.short_base)
-    fail(DiagId::Unsupported, call.range, "short function definitions ('" + fn_name + "') are not supported");
+  if (def.short_base) {
+    std::vector<std::pair<std::string, Tensor>> bound; // the inputs its modifiers bind
+    ClassNode *base = short_function_base(fn, function_of_instance(call, s).first, call, bound);
+    for (auto &b : preset) // the caller's own presets are nearer
+      bound.insert(bound.begin(), std::move(b));
+    return call_function(base, call, s, wanted, std::move(bound));
+  }
   Signature sig;
   collect(*this, fn, sig, 0);
   std::vector<const Expr *> args = match_arguments(*this, sig, call, fn_name);
@@ -1121,6 +1184,9 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
          fmt::format("function '{}' has {} output(s); {} are used", fn_name, sig.outputs.size(),
                      std::max<std::size_t>(wanted, 1)));
 
+  if (def.is_external && !preset.empty())
+    fail(DiagId::Unsupported, call.range,
+         "a short definition that binds inputs of external function '" + fn_name + "' is not supported");
   if (def.is_external) {
     if (def.external_language == "C") {
       std::vector<std::string> in_names, out_names;
@@ -1171,6 +1237,15 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
       arguments[i] = expr(*args[i], s);
       given[i] = true;
     }
+  for (auto &[name, value] : preset) {
+    std::size_t i = 0;
+    while (i < sig.inputs.size() && sig.inputs[i].first->name != name)
+      ++i;
+    if (i == sig.inputs.size())
+      fail(DiagId::WrongArgumentCount, call.range, "function '" + fn_name + "' has no input named '" + name + "'");
+    if (!given[i])
+      arguments[i] = std::move(value), given[i] = true;
+  }
   if (const std::vector<int> over = vectorized_dims(*this, sig, given, arguments, call); !over.empty()) {
     std::vector<Tensor> out;
     out.push_back(call_elementwise(fn, sig, given, arguments, call, over));

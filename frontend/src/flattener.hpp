@@ -16,6 +16,7 @@
 #include <memory>
 #include <set>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace mo::frontend {
 
@@ -214,6 +215,27 @@ struct Reported {};
 /// when-clauses is one row however many clauses assign it.
 std::vector<std::vector<std::int32_t>> balance_rows(const flat::Model &m);
 
+/// The virtual connection graph of overdetermined connectors (MLS 9.4,
+/// flatten_overconstrained.cpp): nodes are record instances with an
+/// equalityConstraint function.
+struct OverconstrainedGraph {
+  struct Edge {
+    Instance *a, *b;
+    SourceRange range;
+  };
+  std::vector<Instance *> roots;                        ///< Connections.root
+  std::vector<std::pair<Instance *, int>> potential;    ///< Connections.potentialRoot, priority
+  std::vector<Edge> branches;                           ///< Connections.branch
+  std::vector<Edge> connections;                        ///< connect() between overdetermined records
+  std::unordered_set<Instance *> selected;              ///< the roots chosen, once closed
+  std::unordered_map<Instance *, int> depth;            ///< distance from its root in the spanning tree
+};
+
+/// Connections.root, potentialRoot or branch as an equation.
+bool is_connections_statement(const ast::Equation &eq);
+/// True if `e` calls Connections.isRoot or rooted (its value waits for the graph).
+bool reads_connection_graph(const ast::Expr &e);
+
 class Flattener {
 public:
   Flattener(Library::Impl &lib, DiagnosticEngine &diags, const FlattenOptions &opts)
@@ -359,8 +381,11 @@ public:
   /// A call of user function `fn` inlined: its outputs (at most `wanted`) as
   /// expressions of the arguments; `external "builtin"` maps to the built-in.
   /// Reports what cannot be inlined and throws Reported.
+  /// `preset`: input values bound by the short definitions that led to `fn`
+  /// (short_function_base), used where the call gives none.
   std::vector<Tensor> call_function(ClassNode *fn, const ast::Expr &call, const Scope &s,
-                                    std::size_t wanted = 1);
+                                    std::size_t wanted = 1,
+                                    std::vector<std::pair<std::string, Tensor>> preset = {});
   /// call_function on flattened arguments: inlined, or evaluated now where
   /// the algorithm cannot be inlined and the arguments are parameters.
   std::vector<Tensor> inline_or_evaluate(ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
@@ -380,6 +405,17 @@ public:
                                      SourceRange where, Tensor &shape);
   /// The class a call names (a function, a record constructor), or null.
   ClassNode *lookup_called_class(const ast::Expr &call, const Scope &s);
+  /// A call that names a function through components (`world.gravityAcceleration(r)`,
+  /// MLS 5.3.2): the instance its leading parts name (an outer one's inner
+  /// element) and the function class declared in it, replaceable ones as
+  /// the instance redeclares them; {null, null} otherwise.
+  std::pair<Instance *, ClassNode *> function_of_instance(const ast::Expr &call, const Scope &s);
+  /// Follows `function F = G(k = e)` to the long function it names; the
+  /// modifiers' bindings (nearer ones first) as input values, evaluated
+  /// where F is declared: in `owner` for a function of an instance, else in
+  /// F's enclosing class.
+  ClassNode *short_function_base(ClassNode *fn, Instance *owner, const ast::Expr &call,
+                                 std::vector<std::pair<std::string, Tensor>> &preset);
   /// A reference to a local of an inlined function, or false.
   bool local_value(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
   /// `String(x, ...)`: kept as a call (assert messages).
@@ -496,6 +532,22 @@ public:
   /// `when` statements) to `out`; reports what it cannot express.
   void algorithm_section(const ast::AlgorithmSection &alg, const Scope &s, std::vector<ast::Equation> &out);
   void finish_connections();
+  // -- overdetermined connectors (flatten_overconstrained.cpp)
+  /// A record instance that declares an equalityConstraint function.
+  bool is_overdetermined(const Instance &x);
+  /// The graph node argument k of a Connections call names.
+  Instance *graph_node(const ast::Expr &call, std::size_t k, const Scope &s);
+  /// Records Connections.root / potentialRoot / branch.
+  void connections_statement(const ast::Equation &eq, const Scope &s);
+  /// Records the Connections statements of `eq`, through if-equations on
+  /// parameters (the branch taken) and for-loops.
+  void collect_graph_statements(const ast::Equation &eq, const Scope &s);
+  /// Chooses the roots and the spanning tree; reports loops and parts without a root.
+  void close_connection_graph();
+  /// Connections.isRoot(A) or rooted(A), from the closed graph.
+  bool connections_query(const ast::Expr &call, const Scope &s);
+  OverconstrainedGraph graph_;
+  bool graph_closed_ = false;
 
   // -- shared state
   Library::Impl &lib_;

@@ -1,0 +1,253 @@
+// Overdetermined connectors (MLS 9.4): the virtual connection graph of
+// Connections.root / potentialRoot / branch and of the connections between
+// overdetermined records (those that declare an equalityConstraint
+// function, MultiBody's Frames.Orientation), its roots and spanning tree,
+// and Connections.isRoot / rooted read from them. The statements are
+// collected in the connections' pass (Flattener::flatten_equations) through
+// if-equations on parameters and for-loops; the graph is closed before the
+// other equations, which read it (and skip the statements).
+//
+// Scope: a graph without loops. A loop (a connection or branch between two
+// nodes the tree already joins) would need the equalityConstraint residues
+// in place of the connection's equations; it is reported as unsupported.
+#include "flattener.hpp"
+
+#include <deque>
+#include <functional>
+#include <fmt/format.h>
+
+namespace mo::frontend::detail {
+
+using ast::Expr;
+
+namespace {
+
+/// "A.R" of a call's argument, for messages.
+std::string arg_text(const Expr &call, std::size_t k) {
+  return k < call.args.size() && call.args[k]->kind == ast::ExprKind::Ref ? call.args[k]->ref.str() : "?";
+}
+
+} // namespace
+
+bool reads_connection_graph(const Expr &e) {
+  std::vector<const Expr *> work{&e};
+  while (!work.empty()) {
+    const Expr *x = work.back();
+    work.pop_back();
+    if (x->kind == ast::ExprKind::Call) {
+      const std::string n = x->ref.str();
+      if (n == "Connections.isRoot" || n == "Connections.rooted" || n == "rooted")
+        return true;
+    }
+    for (const auto &a : x->args)
+      if (a)
+        work.push_back(a.get());
+    for (const auto &na : x->named)
+      if (na.value)
+        work.push_back(na.value.get());
+    for (const auto &row : x->rows)
+      for (const auto &a : row)
+        if (a)
+          work.push_back(a.get());
+  }
+  return false;
+}
+
+bool is_connections_statement(const ast::Equation &eq) {
+  if (eq.kind != ast::EquationKind::Call || !eq.lhs)
+    return false;
+  const std::string n = eq.lhs->ref.str();
+  return n == "Connections.root" || n == "Connections.potentialRoot" || n == "Connections.branch";
+}
+
+bool Flattener::is_overdetermined(const Instance &x) {
+  return x.var < 0 && x.dims.empty() && x.cls && x.cls->def && x.cls->def->restriction == ast::Restriction::Record &&
+         find_member_class(x.cls, "equalityConstraint") != nullptr;
+}
+
+Instance *Flattener::graph_node(const Expr &call, std::size_t k, const Scope &s) {
+  if (k >= call.args.size() || call.args[k]->kind != ast::ExprKind::Ref)
+    fail(DiagId::WrongArgumentCount, call.range,
+         fmt::format("{}() needs a component as argument {}", call.ref.str(), k + 1));
+  std::vector<int> dims;
+  std::vector<Instance *> found;
+  if (!resolve_instances(call.args[k]->ref, s, call.args[k]->range, dims, found) || found.size() != 1)
+    fail(DiagId::UnknownComponent, call.args[k]->range,
+         "'" + arg_text(call, k) + "' in " + call.ref.str() + "() is not one component");
+  if (!is_overdetermined(*found[0]))
+    fail(DiagId::TypeMismatch, call.args[k]->range,
+         "'" + arg_text(call, k) + "' in " + call.ref.str() +
+             "() is not of an overdetermined type (a record with an equalityConstraint function)");
+  return found[0];
+}
+
+void Flattener::connections_statement(const ast::Equation &eq, const Scope &s) {
+  const Expr &call = *eq.lhs;
+  const std::string n = call.ref.str();
+  OverconstrainedGraph &g = graph_;
+  if (n == "Connections.root") {
+    g.roots.push_back(graph_node(call, 0, s));
+  } else if (n == "Connections.potentialRoot") {
+    int priority = 0;
+    if (call.args.size() > 1)
+      priority = static_cast<int>(eval_int(*call.args[1], s));
+    for (const auto &na : call.named)
+      if (na.name == "priority")
+        priority = static_cast<int>(eval_int(*na.value, s));
+    g.potential.emplace_back(graph_node(call, 0, s), priority);
+  } else {
+    Instance *a = graph_node(call, 0, s), *b = graph_node(call, 1, s);
+    g.branches.push_back({a, b, eq.range});
+  }
+}
+
+namespace {
+
+bool contains_graph_statement(const ast::Equation &eq) {
+  if (is_connections_statement(eq))
+    return true;
+  for (const auto &b : eq.branches)
+    for (const auto &x : b.body)
+      if (contains_graph_statement(x))
+        return true;
+  for (const auto &x : eq.body)
+    if (contains_graph_statement(x))
+      return true;
+  return false;
+}
+
+} // namespace
+
+void Flattener::collect_graph_statements(const ast::Equation &eq, const Scope &s) {
+  if (!contains_graph_statement(eq))
+    return;
+  if (is_connections_statement(eq)) {
+    connections_statement(eq, s);
+    return;
+  }
+  if (eq.kind == ast::EquationKind::If) {
+    for (const auto &b : eq.branches) {
+      if (b.condition) {
+        ast::ExprPtr c = scalar_expr(*b.condition, s);
+        if (!is_constant(*c))
+          fail(DiagId::Unsupported, b.condition->range,
+               "Connections.root/potentialRoot/branch under a condition that is not a parameter is not supported "
+               "(the connection graph is fixed at translation)");
+        if (eval(*c, b.condition->range) == 0)
+          continue;
+      }
+      for (const auto &x : b.body)
+        collect_graph_statements(x, s);
+      return;
+    }
+    return;
+  }
+  if (eq.kind == ast::EquationKind::For) {
+    LoopEnv env = s.env ? *s.env : LoopEnv{};
+    std::function<void(std::size_t)> loop = [&](std::size_t k) {
+      Scope inner = s;
+      inner.env = &env;
+      if (k == eq.indices.size()) {
+        for (const auto &b : eq.body)
+          collect_graph_statements(b, inner);
+        return;
+      }
+      if (!eq.indices[k].range)
+        fail(DiagId::Unsupported, eq.indices[k].loc, "for-loops without 'in range' are not supported");
+      for (double v : eval_range(*eq.indices[k].range, inner)) {
+        env.values.emplace_back(eq.indices[k].name, v);
+        loop(k + 1);
+        env.values.pop_back();
+      }
+    };
+    loop(0);
+    return;
+  }
+  fail(DiagId::Unsupported, eq.range, "Connections.root/potentialRoot/branch are only supported in if- and for-equations");
+}
+
+void Flattener::close_connection_graph() {
+  graph_closed_ = true;
+  OverconstrainedGraph &g = graph_;
+  if (g.roots.empty() && g.potential.empty() && g.branches.empty() && g.connections.empty())
+    return;
+  // Adjacency: branches and connections alike (loop-free graphs only).
+  std::unordered_map<Instance *, std::vector<std::pair<Instance *, SourceRange>>> next;
+  std::vector<Instance *> nodes; // in order of first appearance: stable messages
+  auto add = [&](const OverconstrainedGraph::Edge &e) {
+    for (Instance *x : {e.a, e.b})
+      if (!next.count(x))
+        nodes.push_back(x);
+    next[e.a].emplace_back(e.b, e.range);
+    next[e.b].emplace_back(e.a, e.range);
+  };
+  for (const auto &e : g.branches)
+    add(e);
+  for (const auto &e : g.connections)
+    add(e);
+  // Candidate roots in the order MLS 9.4.2 prefers them: definite roots,
+  // then potential roots by priority (lowest first), in declaration order.
+  std::vector<Instance *> candidates = g.roots;
+  std::vector<std::pair<Instance *, int>> potential = g.potential;
+  std::stable_sort(potential.begin(), potential.end(), [](const auto &x, const auto &y) { return x.second < y.second; });
+  for (const auto &[node, priority] : potential)
+    candidates.push_back(node);
+  for (Instance *root : candidates) {
+    if (g.depth.count(root)) {
+      if (std::find(g.roots.begin(), g.roots.end(), root) != g.roots.end() && !g.selected.count(root))
+        fail(DiagId::Unsupported, SourceRange{},
+             "two definite roots (Connections.root) in one part of the connection graph, '" + root->flat + "' and "
+             "another");
+      continue;
+    }
+    g.selected.insert(root);
+    std::deque<Instance *> queue{root};
+    g.depth[root] = 0;
+    std::unordered_map<Instance *, Instance *> from{{root, nullptr}};
+    while (!queue.empty()) {
+      Instance *x = queue.front();
+      queue.pop_front();
+      for (const auto &[y, range] : next[x]) {
+        if (y == from[x]) {
+          from[x] = nullptr; // the tree edge back, once (a double edge is a loop)
+          continue;
+        }
+        if (g.depth.count(y))
+          fail(DiagId::Unsupported, range,
+               "this connection closes a loop of overdetermined connectors ('" + x->flat + "' and '" + y->flat +
+                   "' are joined already); loops, which need equalityConstraint, are not supported");
+        g.depth[y] = g.depth[x] + 1;
+        from[y] = x;
+        queue.push_back(y);
+      }
+    }
+  }
+  for (Instance *node : nodes)
+    if (!g.depth.count(node))
+      fail(DiagId::UnbalancedModel, next[node].front().second,
+           "'" + node->flat + "' is in a part of the connection graph without a root (Connections.root or "
+           "potentialRoot)");
+}
+
+bool Flattener::connections_query(const Expr &call, const Scope &s) {
+  const std::string n = call.ref.str();
+  if (!graph_closed_)
+    fail(DiagId::Unsupported, call.range, n + "() is read before the connection graph is known");
+  Instance *a = graph_node(call, 0, s);
+  if (n == "Connections.isRoot")
+    return graph_.selected.count(a) > 0;
+  if (!graph_.depth.count(a))
+    throw Reported{}; // the graph has an error, reported when it was closed
+  // rooted(A): A nearer a root than B of its branch(A, B) or branch(B, A).
+  for (const auto &e : graph_.branches)
+    if (e.a == a || e.b == a) {
+      Instance *b = e.a == a ? e.b : e.a;
+      if (!graph_.depth.count(b))
+        throw Reported{};
+      return graph_.depth.at(a) < graph_.depth.at(b);
+    }
+  fail(DiagId::UnbalancedModel, call.range,
+       n + "('" + arg_text(call, 0) + "') needs a Connections.branch() with '" + arg_text(call, 0) + "'");
+}
+
+} // namespace mo::frontend::detail

@@ -1,0 +1,11 @@
+// Examples of the MSL's MultiBody library, unchanged (needs Modelica 3.2.2
+// on the library path): overdetermined frame connectors with
+// Connections.root / branch / potentialRoot, quaternion types, functions
+// called through the world component (tests/e2e/test_overconstrained.cpp).
+
+// A body of 1 kg, its centre of mass 0.5 m out, on a revolute joint about z
+// with a damper of 0.1 N.m.s/rad, released at rest horizontally under
+// gravity along -y.
+model Pendulum
+  extends Modelica.Mechanics.MultiBody.Examples.Elementary.Pendulum;
+end Pendulum;

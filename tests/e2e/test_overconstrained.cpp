@@ -1,0 +1,100 @@
+// Overdetermined connectors (MLS 9.4, frontend/src/flatten_overconstrained.cpp):
+// our planar frames (data/PlanarFrames.mo) with Connections.root, branch and
+// potentialRoot, rooted() choosing each joint's equations, against the
+// pendulum's equation of motion; a loop and a graph without a root are
+// reported. The MSL's MultiBody Pendulum against the same equation.
+#include <cmath>
+#include <functional>
+#include <sstream>
+
+#include "e2e/support.hpp"
+#include "mo/runtime/simulate.hpp"
+
+using namespace mo;
+using namespace mo::e2e;
+
+namespace {
+
+/// phi(t) of J phi'' = -m g L cos(phi) - d phi' from (phi0, 0), by RK4
+/// with 1e-5 s steps, at each of `times`.
+std::vector<double> pendulum(double J, double mgL, double d, double phi0, const std::vector<double> &times) {
+  const auto f = [&](double phi, double w) { return (-mgL * std::cos(phi) - d * w) / J; };
+  std::vector<double> out;
+  double phi = phi0, w = 0, t = 0;
+  const double h = 1e-5;
+  for (double target : times) {
+    while (t < target - h / 2) {
+      const double k1p = w, k1w = f(phi, w);
+      const double k2p = w + h / 2 * k1w, k2w = f(phi + h / 2 * k1p, w + h / 2 * k1w);
+      const double k3p = w + h / 2 * k2w, k3w = f(phi + h / 2 * k2p, w + h / 2 * k2w);
+      const double k4p = w + h * k3w, k4w = f(phi + h * k3p, w + h * k3w);
+      phi += h / 6 * (k1p + 2 * k2p + 2 * k3p + k4p);
+      w += h / 6 * (k1w + 2 * k2w + 2 * k3w + k4w);
+      t += h;
+    }
+    out.push_back(phi);
+  }
+  return out;
+}
+
+ModelSpec planar(const std::string &name) { return {{kData + "PlanarFrames.mo", "PlanarFrames." + name, {}, true}, {}}; }
+
+/// The diagnostics of flattening PlanarFrames.`name`, which must fail.
+std::string flatten_errors(const std::string &name) {
+  frontend::SourceManager sources;
+  frontend::DiagnosticEngine diags(sources);
+  CHECK_FALSE(tools::load_flat_model(planar(name).source, sources, diags));
+  std::ostringstream printed;
+  diags.print(printed);
+  return printed.str();
+}
+
+} // namespace
+
+TEST_CASE("overdetermined connectors: rooted() picks each joint's equations, either way round") {
+  const auto grid = runtime::OutputGrid::uniform(0, 2, 40);
+  // Body: m = 1, I = 0.01, L = 0.5 about the joint: J = I + m L².
+  const std::vector<double> exact = pendulum(0.01 + 0.25, 9.81 * 0.5, 0, 0.3, grid.times);
+  for (const bool reversed : {false, true}) {
+    INFO((reversed ? "ReversedPendulum" : "Pendulum"));
+    auto model = compiled_model(reversed ? "e2e_planar_reversed" : "e2e_planar_pendulum",
+                                planar(reversed ? "ReversedPendulum" : "Pendulum"));
+    const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+    INFO(r.message);
+    REQUIRE(r.ok());
+    // Turned round, the joint's angle is the body's turned back.
+    const auto phi = column(r.trajectory, "joint.phi");
+    for (std::size_t k = 0; k < grid.times.size(); ++k) {
+      INFO("t = " << grid.times[k]);
+      CHECK((reversed ? -phi[k] : phi[k]) == Approx(exact[k]).margin(1e-6));
+    }
+    const auto p = model->info().default_parameters();
+    const std::string name = reversed ? "e2e_planar_reversed" : "e2e_planar_pendulum";
+    CHECK(variable(name, r.trajectory, p, "joint.aRooted").front() == (reversed ? 0.0 : 1.0));
+    CHECK(variable(name, r.trajectory, p, "body.root").front() == 0.0);  // the ground is the root
+  }
+}
+
+TEST_CASE("overdetermined connectors: a loop and a part without a root are reported") {
+  CHECK_THAT(flatten_errors("TwoJointsLoop"),
+             Catch::Contains("PlanarFrames.mo:108:5: error: this connection closes a loop of overdetermined "
+                             "connectors ('joint2.frame_b.R' and 'body.frame_a.R' are joined already)"));
+  CHECK_THAT(flatten_errors("Revolute"),
+             Catch::Contains("error: 'frame_a.R' is in a part of the connection graph without a root"));
+}
+
+TEST_CASE("the MSL's MultiBody Pendulum swings as its equation of motion says", "[msl]") {
+  auto model = msl_compiled_model("e2e_msl_multibody_pendulum", {{kData + "MslMultiBody.mo", "Pendulum", {}, true}, {}});
+  if (!model) return;
+  const auto grid = runtime::OutputGrid::uniform(0, 5, 100);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  // Body m = 1, r_CM = 0.5, I_33 = 0.001; damper d = 0.1; from phi = 0, w = 0.
+  const std::vector<double> exact = pendulum(0.001 + 0.25, 9.81 * 0.5, 0.1, 0, grid.times);
+  const auto phi = column(r.trajectory, "rev.phi");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    INFO("t = " << grid.times[k]);
+    CHECK(phi[k] == Approx(exact[k]).margin(1e-6));
+  }
+}
