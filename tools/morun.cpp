@@ -266,7 +266,10 @@ int run(const Options& opt, tools::RunContext& ctx) {
     return 1;
   }
   if (opt.plot) tools::plot_simulation(opt.output, info, declared_outputs);
-  std::cerr << fmt::format("morun: simulated to t = {} in {:.3f} s; results in {}\n", opt.stop_time,
+  if (checked.status == runtime::SimulationStatus::terminated_by_model)
+    std::cerr << "morun: " << checked.message << "\n";
+  std::cerr << fmt::format("morun: simulated to t = {} in {:.3f} s; results in {}\n",
+                           checked.trajectory.rows() > 0 ? checked.trajectory.times().back() : opt.stop_time,
                            result.statistics.wall_time_seconds, opt.output);
   return 0;
 }

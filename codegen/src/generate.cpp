@@ -231,9 +231,10 @@ std::string when_tables(const Program& p) {
   std::string out;
   std::vector<int> assign_start{0}, assign_target, assign_value, reinit_start{0}, reinit_state,
       reinit_value, every_event, before_steps;
-  std::vector<std::string> sections;
+  std::vector<std::string> sections, terminate_messages;  // messages escaped: model text
   for (const auto& w : p.whens) {
     sections.push_back(fmt::format("section_{}", w.section));
+    terminate_messages.push_back(w.terminates ? cpp_string_literal(w.terminate_message) : "nullptr");
     every_event.push_back(w.every_event ? 1 : 0);
     before_steps.push_back(w.before_steps ? 1 : 0);
     for (auto [t, v] : w.assignments) assign_target.push_back(static_cast<int>(t)), assign_value.push_back(static_cast<int>(v));
@@ -253,6 +254,7 @@ std::string when_tables(const Program& p) {
   ints("when_reinit_start", reinit_start);
   ints("when_reinit_state", reinit_state);
   ints("when_reinit_value", reinit_value);
+  out += array("char*", "when_terminate", terminate_messages, [](const std::string& s) { return s; });
   std::vector<int> pre_to, pre_from, newton_slots;
   std::vector<double> newton_start;
   for (auto [to, from] : p.pre_copies) pre_to.push_back(static_cast<int>(to)), pre_from.push_back(static_cast<int>(from));

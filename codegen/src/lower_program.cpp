@@ -384,6 +384,8 @@ private:
       const auto& w = m_.whens[k];
       WhenCode code;
       code.every_event = w.every_event;
+      code.terminates = w.terminates;
+      code.terminate_message = w.terminate_message;
       code.before_steps = before_steps[k];
       new_section("when" + std::to_string(k), code.section);
       auto b = builder(after_steps_);

@@ -288,6 +288,10 @@ public:
         }
         fired_[k] = 1;
         const bool changed = fire(k);
+        if (when_terminate[k]) {  // terminate(): the run ends after this event
+          response.terminate = true;
+          response.message = when_terminate[k];
+        }
         for (int r = when_reinit_start[k]; r < when_reinit_start[k + 1]; ++r) {
           x[static_cast<std::size_t>(when_reinit_state[r])] = w[when_reinit_value[r]];
           response.states_reinit = true;

@@ -586,6 +586,7 @@ bool Simulation::handle_event(double t, std::span<const int> crossings, bool tim
   EventCause cause{t, crossings, time_event};
   changed = false;
   bool terminate = false;
+  std::string terminate_message;
   std::optional<detail::SensitivityJump> jump;
   // Without event tangents only an event that changes nothing (a time event
   // of delay(), a model without when-clauses) keeps the sensitivities.
@@ -607,6 +608,7 @@ bool Simulation::handle_event(double t, std::span<const int> crossings, bool tim
     EventResponse response =
         jump ? jump->handle(cause, x, u_, p_) : model_.handle_event(cause, x, u_, p_);
     changed = changed || response.discrete_changed || response.states_reinit;
+    if (response.terminate && !terminate) terminate_message = response.message;
     terminate = terminate || response.terminate;
     if (!response.discrete_changed) break;
     cause = EventCause{t, {}, false};
@@ -635,7 +637,9 @@ bool Simulation::handle_event(double t, std::span<const int> crossings, bool tim
   event_time_derivatives_.clear();
   if (jump) event_time_derivatives_ = jump->event_time_derivatives();
   if (terminate) {
-    fail(SimulationStatus::terminated_by_model, fmt::format("terminated by the model at t = {}", t));
+    fail(SimulationStatus::terminated_by_model,
+         fmt::format("terminated by the model at t = {}{}", t,
+                     terminate_message.empty() ? "" : ": " + terminate_message));
     return false;
   }
   return true;

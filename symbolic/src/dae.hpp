@@ -50,6 +50,8 @@ struct DaeWhen {
   bool every_event = false;
   std::vector<Assignment> assignments;  ///< targets are Discrete symbols
   std::vector<std::pair<int, Expr>> reinits;  ///< (DaeVar index, value)
+  bool terminates = false;                    ///< terminate(message) in the clause
+  std::string terminate_message;              ///< its text (a literal or a String parameter's value)
   frontend::SourceRange range;
 };
 

@@ -473,6 +473,8 @@ private:
   /// if c1 then e1 elseif ... else en` per variable; false (reported) unless
   /// every branch, an else included, assigns the same variables.
   bool when_if(const ast::Equation& eq, std::map<std::int32_t, std::pair<Expr, Expr>>& out);
+  /// The text of a String literal or of a String parameter bound to one; empty otherwise.
+  std::string string_value(const ast::Expr* e) const;
   void outputs();
 
   const flat::Model& f_;
@@ -811,6 +813,9 @@ void Builder::when_clause(const ast::Expr& condition, const ast::EquationBranch&
         w.reinits.emplace_back(slot.var, conv_->convert(*s.lhs->args[1]));
       } else if (s.kind == ast::EquationKind::Call && s.lhs->ref.str() == "assert") {
         continue;
+      } else if (s.kind == ast::EquationKind::Call && s.lhs->ref.str() == "terminate") {
+        w.terminates = true;
+        w.terminate_message = string_value(s.lhs->args.empty() ? nullptr : s.lhs->args[0].get());
       } else if (std::map<std::int32_t, std::pair<Expr, Expr>> chosen;
                  s.kind == ast::EquationKind::If && when_if(s, chosen)) {
         for (auto& [var, assignment] : chosen) w.assignments.push_back(Assignment{assignment.first, assignment.second});
@@ -822,6 +827,15 @@ void Builder::when_clause(const ast::Expr& condition, const ast::EquationBranch&
     resolve_within_clause(dae_.arena, w);
     dae_.whens.push_back(std::move(w));
   }
+}
+
+std::string Builder::string_value(const ast::Expr* e) const {
+  if (e && e->kind == ast::ExprKind::String) return e->text;
+  if (e && e->kind == ast::ExprKind::Ref && e->var >= 0) {  // a String parameter
+    const flat::Variable& v = f_.variables[static_cast<std::size_t>(e->var)];
+    if (v.binding && v.binding->kind == ast::ExprKind::String) return v.binding->text;
+  }
+  return {};
 }
 
 bool Builder::when_if(const ast::Equation& eq, std::map<std::int32_t, std::pair<Expr, Expr>>& out) {

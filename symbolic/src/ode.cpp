@@ -4,6 +4,7 @@
 #include <cmath>
 #include <fmt/format.h>
 
+#include "mo/frontend/ast.hpp"
 #include "mo/symbolic/printer.hpp"
 #include "mo/symbolic/traversal.hpp"
 
@@ -114,6 +115,7 @@ void print_when(const ExprArena& a, const OdeModel& m, const WhenClause& w, std:
   for (const auto& r : w.reinits)
     out += "    reinit(" + modelica_name(m.states[r.state].info.name) + ", " +
            to_modelica(a, r.value) + ");\n";
+  if (w.terminates) out += "    terminate(\"" + frontend::ast::escape_string(w.terminate_message) + "\");\n";
   out += "  end when;\n";
 }
 

@@ -243,3 +243,19 @@ TEST_CASE("a relation whose indicator a clause moves away from zero takes its va
       CHECK(std::any_of(r.event_times.begin(), r.event_times.end(), [&](double t) { return std::fabs(t - k) < 1e-9; }));
   }
 }
+
+TEST_CASE("terminate() in a when-clause ends the run at the event, with its message (TerminateWhen)", "[events]") {
+  auto model = compiled_model("e2e_terminate_when", {{kData + "TerminateWhen.mo", "", {}, true}, {}});
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(),
+                                   runtime::OutputGrid::uniform(0, 2, 200), tight());
+  CHECK(r.status == runtime::SimulationStatus::terminated_by_model);
+  CHECK(r.ok());
+  const double landing = 2 * 4 / 9.81;  // h = v0 t - g t²/2 = 0 again
+  CHECK_THAT(r.message, Catch::Contains("terminated by the model at t = "));
+  CHECK_THAT(r.message, Catch::EndsWith(": fell back below the start"));
+  REQUIRE(r.event_times.size() >= 1);
+  CHECK(r.event_times.back() == Approx(landing).margin(1e-8));
+  CHECK(r.trajectory.times().back() <= landing + 1e-8);
+  CHECK(r.trajectory.times().back() > landing - 0.01 - 1e-9);  // the rows up to the event
+  CHECK(discrete_value(*model, "landings") == 1.0);
+}

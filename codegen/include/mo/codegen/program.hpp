@@ -123,6 +123,8 @@ struct WhenCode {
   bool before_steps = false;
   std::vector<std::pair<Slot, Slot>> assignments;  ///< (discrete slot, value slot)
   std::vector<std::pair<std::size_t, Slot>> reinits;  ///< (state index, value slot)
+  bool terminates = false;        ///< terminate(): the run ends when the clause fires
+  std::string terminate_message;  ///< its text
 };
 
 /// A sample(start, interval) as slots (symbolic::OdeSample): the `samples`

@@ -143,6 +143,7 @@ struct EventResponse {
   bool discrete_changed = false;  ///< some d changed: the simulator iterates the handler
   bool states_reinit = false;     ///< some x were reinitialised: the integrator restarts
   bool terminate = false;         ///< terminate() was called: simulation ends here
+  std::string message;            ///< terminate()'s text
 };
 
 /// One direction along which the event map is differentiated: the derivative

@@ -137,6 +137,8 @@ struct WhenClause {
   bool every_event = false;
   std::vector<Assignment> assignments;  ///< targets are Discrete symbols
   std::vector<Reinit> reinits;
+  bool terminates = false;         ///< terminate(): the simulation ends successfully when it fires
+  std::string terminate_message;   ///< terminate()'s text
 };
 
 /// `sample(start, interval)`: time events at exactly start + k·interval,
