@@ -1116,11 +1116,13 @@ std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &si
 /// The dimensions D over which a call is vectorized (MLS 12.4.6): arguments
 /// that have more dimensions than their input's declaration, D in front
 /// (the same D for all of them), the others as declared. Empty when no
-/// argument has more, or when an input is a record. Only the declared
-/// number of dimensions is compared here; their sizes are checked per call.
+/// argument has more, or when an input is a record; `sliced` marks the
+/// arguments that have them. Only the declared number of dimensions is
+/// compared here; their sizes are checked per call.
 std::vector<int> vectorized_dims(Flattener &f, const Signature &sig, const std::vector<bool> &given,
-                                 const std::vector<Tensor> &arguments, const Expr &call) {
+                                 const std::vector<Tensor> &arguments, const Expr &call, std::vector<bool> &sliced) {
   std::vector<int> over;
+  sliced.assign(sig.inputs.size(), false);
   for (std::size_t i = 0; i < sig.inputs.size(); ++i) {
     if (!given[i] || arguments[i].record)
       continue;
@@ -1138,6 +1140,7 @@ std::vector<int> vectorized_dims(Flattener &f, const Signature &sig, const std::
              fmt::format("the arguments of a vectorized call have different sizes ([{}] and [{}])",
                          fmt::join(over, ", "), fmt::join(extra, ", ")));
     over = extra;
+    sliced[i] = true;
   }
   return over;
 }
@@ -1246,17 +1249,18 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
     if (!given[i])
       arguments[i] = std::move(value), given[i] = true;
   }
-  if (const std::vector<int> over = vectorized_dims(*this, sig, given, arguments, call); !over.empty()) {
+  std::vector<bool> sliced;
+  if (const std::vector<int> over = vectorized_dims(*this, sig, given, arguments, call, sliced); !over.empty()) {
     std::vector<Tensor> out;
-    out.push_back(call_elementwise(fn, sig, given, arguments, call, over));
+    out.push_back(call_elementwise(fn, sig, given, arguments, sliced, call, over));
     return out;
   }
   return inline_or_evaluate(fn, sig, given, std::move(arguments), call, wanted);
 }
 
 Tensor Flattener::call_elementwise(ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
-                                   const std::vector<Tensor> &arguments, const Expr &call,
-                                   const std::vector<int> &over) {
+                                   const std::vector<Tensor> &arguments, const std::vector<bool> &sliced,
+                                   const Expr &call, const std::vector<int> &over) {
   std::size_t count = 1;
   for (int d : over)
     count *= static_cast<std::size_t>(d);
@@ -1267,7 +1271,7 @@ Tensor Flattener::call_elementwise(ClassNode *fn, const Signature &sig, const st
       if (!given[i])
         continue;
       const Tensor &a = arguments[i];
-      if (a.dims.size() < over.size() || !std::equal(over.begin(), over.end(), a.dims.begin())) {
+      if (!sliced[i]) {
         element[i] = clone_tensor(a); // given with its declared size: the same in every call
         continue;
       }

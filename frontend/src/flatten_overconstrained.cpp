@@ -87,6 +87,7 @@ void Flattener::connections_statement(const ast::Equation &eq, const Scope &s) {
   OverconstrainedGraph &g = graph_;
   if (n == "Connections.root") {
     g.roots.push_back(graph_node(call, 0, s));
+    g.root_range.emplace(g.roots.back(), eq.range);
   } else if (n == "Connections.potentialRoot") {
     int priority = 0;
     if (call.args.size() > 1)
@@ -195,9 +196,9 @@ void Flattener::close_connection_graph() {
   for (Instance *root : candidates) {
     if (g.depth.count(root)) {
       if (std::find(g.roots.begin(), g.roots.end(), root) != g.roots.end() && !g.selected.count(root))
-        fail(DiagId::Unsupported, SourceRange{},
-             "two definite roots (Connections.root) in one part of the connection graph, '" + root->flat + "' and "
-             "another");
+        fail(DiagId::UnbalancedModel, g.root_range.at(root),
+             "a second definite root (Connections.root) in a part of the connection graph that has one: '" +
+                 root->flat + "'");
       continue;
     }
     g.selected.insert(root);

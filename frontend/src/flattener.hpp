@@ -224,6 +224,7 @@ struct OverconstrainedGraph {
     SourceRange range;
   };
   std::vector<Instance *> roots;                        ///< Connections.root
+  std::unordered_map<Instance *, SourceRange> root_range; ///< where each is declared a root
   std::vector<std::pair<Instance *, int>> potential;    ///< Connections.potentialRoot, priority
   std::vector<Edge> branches;                           ///< Connections.branch
   std::vector<Edge> connections;                        ///< connect() between overdetermined records
@@ -392,10 +393,12 @@ public:
                                          std::vector<Tensor> arguments, const ast::Expr &call,
                                          std::size_t wanted);
   /// A vectorized call (MLS 12.4.6): `fn` once per index of `over`, the
-  /// arguments that have those leading dimensions sliced; the first outputs
-  /// as one array of dimensions `over` then the output's own.
+  /// `sliced` arguments (those with those leading dimensions beyond their
+  /// declaration) sliced; the first outputs as one array of dimensions
+  /// `over` then the output's own.
   Tensor call_elementwise(ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
-                          const std::vector<Tensor> &arguments, const ast::Expr &call, const std::vector<int> &over);
+                          const std::vector<Tensor> &arguments, const std::vector<bool> &sliced,
+                          const ast::Expr &call, const std::vector<int> &over);
   /// A call statement of function `fn` without outputs that has an effect
   /// the tool provides (the impure random generator's state); false if none.
   bool call_statement(ClassNode *fn, const ast::Expr &call, const Scope &s);

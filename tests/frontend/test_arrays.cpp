@@ -179,7 +179,15 @@ TEST_CASE("a function of scalars applied to arrays is called per element (MLS 12
       end dot2;
       Real v[3] = scale({1, 2, 3}*time);
       Real w[2, 3] = scale({{1, 2, 3}, {4, 5, 6}}*time, 3);
+      function weigh "a scalar and a vector: a vector argument of its own size is not sliced"
+        input Real x;
+        input Real w[2];
+        output Real y;
+      algorithm
+        y := x*(w[1] + w[2]);
+      end weigh;
       Real d[3] = dot2({{1, 0}, {0, 1}, {1, 1}}*time, {1, 2});
+      Real u[2] = weigh({1, 2}*time, {3, 4});
       Real s[2] = smooth(0, {time, -time});
     end Vectorized;)");
   INFO(c.diagnostics);
@@ -189,6 +197,7 @@ TEST_CASE("a function of scalars applied to arrays is called per element (MLS 12
   CHECK(s.find("`w[2,1]` = 3 * (4 * time);") != std::string::npos);
   CHECK(s.find("`d[3]` = 1 * time * 1 + 1 * time * 2;") != std::string::npos);
   CHECK(s.find("`s[2]` = smooth(0, -time);") != std::string::npos);
+  CHECK(s.find("`u[2]` = 2 * time * (3 + 4);") != std::string::npos);
   // Arguments that disagree on the vectorized dimensions are reported.
   Compiled bad = compile_text(R"(
     model Bad
