@@ -80,7 +80,6 @@ void Flattener::connect(const ast::Equation &eq, const Scope &s) {
     connect_pair(side[0][i], outside[0], side[1][i], outside[1], eq.range);
 }
 
-
 bool Flattener::only_connections(const ast::Equation &eq) {
   if (eq.kind == ast::EquationKind::Connect)
     return true;
