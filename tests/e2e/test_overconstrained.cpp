@@ -2,7 +2,9 @@
 // our planar frames (data/PlanarFrames.mo) with Connections.root, branch and
 // potentialRoot, rooted() choosing each joint's equations, against the
 // pendulum's equation of motion; a loop and a graph without a root are
-// reported. The MSL's MultiBody Pendulum against the same equation.
+// reported. The MSL's MultiBody Pendulum against the same equation, and its
+// PointGravity's free bodies against their Kepler orbits.
+#include <array>
 #include <cmath>
 #include <functional>
 #include <sstream>
@@ -96,5 +98,56 @@ TEST_CASE("the MSL's MultiBody Pendulum swings as its equation of motion says", 
   for (std::size_t k = 0; k < grid.times.size(); ++k) {
     INFO("t = " << grid.times[k]);
     CHECK(phi[k] == Approx(exact[k]).margin(1e-6));
+  }
+}
+
+namespace {
+
+/// r(t_end) of r'' = -mue r / |r|^3 from (r, v), by RK4 with 1e-4 s steps.
+std::array<double, 3> kepler(std::array<double, 3> r, std::array<double, 3> v, double mue, double t_end) {
+  using V = std::array<double, 3>;
+  const auto acc = [&](const V &x) {
+    const double d = std::sqrt(x[0] * x[0] + x[1] * x[1] + x[2] * x[2]);
+    return V{-mue * x[0] / (d * d * d), -mue * x[1] / (d * d * d), -mue * x[2] / (d * d * d)};
+  };
+  const auto axpy = [](const V &x, double a, const V &y) { return V{x[0] + a * y[0], x[1] + a * y[1], x[2] + a * y[2]}; };
+  const double h = 1e-4;
+  for (long k = 0, n = std::lround(t_end / h); k < n; ++k) {
+    const V k1r = v, k1v = acc(r);
+    const V k2r = axpy(v, h / 2, k1v), k2v = acc(axpy(r, h / 2, k1r));
+    const V k3r = axpy(v, h / 2, k2v), k3v = acc(axpy(r, h / 2, k2r));
+    const V k4r = axpy(v, h, k3v), k4v = acc(axpy(r, h, k3r));
+    for (int i = 0; i < 3; ++i) {
+      r[i] += h / 6 * (k1r[i] + 2 * k2r[i] + 2 * k3r[i] + k4r[i]);
+      v[i] += h / 6 * (k1v[i] + 2 * k2v[i] + 2 * k3v[i] + k4v[i]);
+    }
+  }
+  return r;
+}
+
+} // namespace
+
+TEST_CASE("the MSL's MultiBody PointGravity: two free bodies fly their Kepler orbits", "[msl]") {
+  auto model =
+      msl_compiled_model("e2e_msl_multibody_point_gravity", {{kData + "MslMultiBody.mo", "PointGravity", {}, true}, {}});
+  if (!model) return;
+  const auto p = model->info().default_parameters();
+  const auto grid = runtime::OutputGrid::uniform(0, 5, 50);
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  // mue = 1; body1 from (0, 0.6, 0) at (1, 0, 0), body2 from (0.6, 0.6, 0) at (0.6, 0, 0).
+  const struct {
+    const char *name;
+    std::array<double, 3> r0, v0;
+  } bodies[] = {{"body1", {0, 0.6, 0}, {1, 0, 0}}, {"body2", {0.6, 0.6, 0}, {0.6, 0, 0}}};
+  for (const auto &b : bodies) {
+    const std::array<double, 3> exact = kepler(b.r0, b.v0, 1.0, 5.0);
+    for (int i = 0; i < 3; ++i) {
+      const std::string name = std::string(b.name) + ".r_0[" + std::to_string(i + 1) + "]";
+      INFO(name);
+      CHECK(variable("e2e_msl_multibody_point_gravity", r.trajectory, p, name).back() ==
+            Approx(exact[static_cast<std::size_t>(i)]).margin(1e-6));
+    }
   }
 }

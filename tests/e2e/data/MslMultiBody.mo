@@ -9,3 +9,10 @@
 model Pendulum
   extends Modelica.Mechanics.MultiBody.Examples.Elementary.Pendulum;
 end Pendulum;
+
+// Two free bodies (point masses, r_CM = 0) in the point gravity field of
+// mue = 1: each flies its Kepler orbit, each body its own root of the
+// connection graph (Connections.isRoot: its states).
+model PointGravity
+  extends Modelica.Mechanics.MultiBody.Examples.Elementary.PointGravity;
+end PointGravity;
