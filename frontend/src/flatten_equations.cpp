@@ -355,6 +355,28 @@ void Flattener::equal_elements(const ast::Equation &eq, Tensor &l, Tensor &r, st
   }
 }
 
+void Flattener::for_each_iteration(const ast::Equation &eq, const Scope &s,
+                                   const std::function<void(const Scope &)> &body) {
+  // Nested loops over every index, innermost last.
+  LoopEnv env = s.env ? *s.env : LoopEnv{};
+  std::function<void(std::size_t)> loop = [&](std::size_t k) {
+    Scope inner = s;
+    inner.env = &env;
+    if (k == eq.indices.size()) {
+      body(inner);
+      return;
+    }
+    if (!eq.indices[k].range)
+      fail(DiagId::Unsupported, eq.indices[k].loc, "for-loops without 'in range' are not supported");
+    for (double v : eval_range(*eq.indices[k].range, inner)) {
+      env.values.emplace_back(eq.indices[k].name, v);
+      loop(k + 1);
+      env.values.pop_back();
+    }
+  };
+  loop(0);
+}
+
 void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out) {
   switch (eq.kind) {
   case EquationKind::Simple:
@@ -373,30 +395,12 @@ void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<as
       fail(DiagId::Unsupported, eq.range, "connect() inside a when-clause is not allowed");
     connect(eq, s);
     return;
-  case EquationKind::For: {
-    // Nested loops over every index, innermost last.
-    LoopEnv env = s.env ? *s.env : LoopEnv{};
-    std::function<void(std::size_t)> loop = [&](std::size_t k) {
-      if (k == eq.indices.size()) {
-        Scope inner = s;
-        inner.env = &env;
-        for (const auto &b : eq.body)
-          equation(b, inner, out);
-        return;
-      }
-      if (!eq.indices[k].range)
-        fail(DiagId::Unsupported, eq.indices[k].loc, "for-loops without 'in range' are not supported");
-      Scope rs = s;
-      rs.env = &env;
-      for (double v : eval_range(*eq.indices[k].range, rs)) {
-        env.values.emplace_back(eq.indices[k].name, v);
-        loop(k + 1);
-        env.values.pop_back();
-      }
-    };
-    loop(0);
+  case EquationKind::For:
+    for_each_iteration(eq, s, [&](const Scope &inner) {
+      for (const auto &b : eq.body)
+        equation(b, inner, out);
+    });
     return;
-  }
   case EquationKind::If: {
     // Branches under parameter conditions are chosen now; otherwise the
     // if-equation stays, each branch flattened.

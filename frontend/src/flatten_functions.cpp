@@ -1124,9 +1124,9 @@ std::vector<int> vectorized_dims(Flattener &f, const Signature &sig, const std::
   std::vector<int> over;
   sliced.assign(sig.inputs.size(), false);
   for (std::size_t i = 0; i < sig.inputs.size(); ++i) {
-    if (!given[i] || arguments[i].record)
-      continue;
     const auto &[c, owner] = sig.inputs[i];
+    if (!given[i] || arguments[i].record || arguments[i].dims.size() <= c->dims.size())
+      continue; // not beyond its declaration (the common case: no type to resolve)
     ResolvedType rt;
     if (!f.resolve_type(owner, c->type, rt) || !rt.is_builtin)
       return {};

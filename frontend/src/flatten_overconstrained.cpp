@@ -13,7 +13,6 @@
 #include "flattener.hpp"
 
 #include <deque>
-#include <functional>
 #include <fmt/format.h>
 
 namespace mo::frontend::detail {
@@ -144,24 +143,10 @@ void Flattener::collect_graph_statements(const ast::Equation &eq, const Scope &s
     return;
   }
   if (eq.kind == ast::EquationKind::For) {
-    LoopEnv env = s.env ? *s.env : LoopEnv{};
-    std::function<void(std::size_t)> loop = [&](std::size_t k) {
-      Scope inner = s;
-      inner.env = &env;
-      if (k == eq.indices.size()) {
-        for (const auto &b : eq.body)
-          collect_graph_statements(b, inner);
-        return;
-      }
-      if (!eq.indices[k].range)
-        fail(DiagId::Unsupported, eq.indices[k].loc, "for-loops without 'in range' are not supported");
-      for (double v : eval_range(*eq.indices[k].range, inner)) {
-        env.values.emplace_back(eq.indices[k].name, v);
-        loop(k + 1);
-        env.values.pop_back();
-      }
-    };
-    loop(0);
+    for_each_iteration(eq, s, [&](const Scope &inner) {
+      for (const auto &b : eq.body)
+        collect_graph_statements(b, inner);
+    });
     return;
   }
   fail(DiagId::Unsupported, eq.range, "Connections.root/potentialRoot/branch are only supported in if- and for-equations");

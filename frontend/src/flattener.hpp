@@ -542,6 +542,9 @@ public:
   Instance *graph_node(const ast::Expr &call, std::size_t k, const Scope &s);
   /// Records Connections.root / potentialRoot / branch.
   void connections_statement(const ast::Equation &eq, const Scope &s);
+  /// Runs `body` once per iteration of the for-equation `eq` (nested
+  /// indices, the last innermost), with a scope that binds the indices.
+  void for_each_iteration(const ast::Equation &eq, const Scope &s, const std::function<void(const Scope &)> &body);
   /// Records the Connections statements of `eq`, through if-equations on
   /// parameters (the branch taken) and for-loops.
   void collect_graph_statements(const ast::Equation &eq, const Scope &s);
