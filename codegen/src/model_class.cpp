@@ -587,14 +587,70 @@ private:
   // from `sa`.) Without a fixed point after a bounded number of passes the
   // last values stand and the handler's event iteration goes on.
   // Expects the steps computed from the current discrete values.
+  //
+  // A cycle of passes is broken at a tie (the MSL's bearing and gear both
+  // stuck: locked, the least-norm split asks more than the bearing's limit,
+  // startForward; sliding at its limit with the gear holding, sa is exactly
+  // tau0_max and `sa > tau0_max` false, locked again): an indicator at its
+  // zero in one pass of the cycle and on one side in the others keeps that
+  // side for the rest of the instant, as if it had crossed there (cross_), a
+  // hysteresis at the relation's zero; then the passes go on.
   void solve_mixed() {
+    mixed_passes_.clear();
     for (std::size_t pass = 0; pass < 2 * nd + 8; ++pass) {
       bool changed = fire_every_event(true);
       if (changed) section_steps();
+      if (ng > 0) {
+        const std::size_t first = record_mixed_pass();
+        if (first + 1 < mixed_passes_.size() && hold_ties(first)) mixed_passes_.clear();
+      }
       changed = fire_every_event(false) || changed;
       if (!changed) return;
       section_steps();
     }
+  }
+  // Appends this pass's discrete values and indicators (the ones the clauses
+  // computed from the steps will read); returns the last earlier pass with
+  // the same discrete values (the start of a cycle), else the new one's index.
+  std::size_t record_mixed_pass() {
+    run(section_index_crossings, nullptr);
+    MixedPass now;
+    now.discrete.assign(w_.begin() + d_slot, w_.begin() + d_slot + nd);
+    now.indicators.resize(ng);
+    for (std::size_t i = 0; i < ng; ++i) now.indicators[i] = w_[static_cast<std::size_t>(crossing_slots[i])];
+    std::size_t first = mixed_passes_.size();
+    for (std::size_t k = 0; k < mixed_passes_.size(); ++k)
+      if (mixed_passes_[k].discrete == now.discrete) first = k;
+    mixed_passes_.push_back(std::move(now));
+    return first;
+  }
+  // Holds the indicators at a tie in the cycle of passes first.. (at zero,
+  // within 1e-9 of their largest value in it, in one pass; on one side in the
+  // others). True if it held any.
+  bool hold_ties(std::size_t first) {
+    bool held = false;
+    for (std::size_t i = 0; i < ng; ++i) {
+      if (cross_[i] != 0) continue;
+      double scale = 1.0;
+      for (std::size_t k = first; k < mixed_passes_.size(); ++k)
+        scale = std::max(scale, std::abs(mixed_passes_[k].indicators[i]));
+      int side = 0;
+      bool tie = false, both = false;
+      for (std::size_t k = first; k < mixed_passes_.size(); ++k) {
+        const double g = mixed_passes_[k].indicators[i];
+        if (std::abs(g) <= 1e-9 * scale) {
+          tie = true;
+        } else {
+          const int s = g > 0 ? 1 : -1;
+          both = both || (side != 0 && s != side);
+          side = s;
+        }
+      }
+      if (!tie || both || side == 0) continue;
+      cross_[i] = side;
+      held = true;
+    }
+    return held;
   }
 
   void run(int section, const int* cross) {
@@ -638,6 +694,10 @@ private:
   std::array<G::HessianPlan, 2> plans_;
   std::array<bool, 2> plan_known_{};
   std::vector<int> cross_, reversed_, relations_;
+  struct MixedPass {
+    std::vector<double> discrete, indicators;
+  };
+  std::vector<MixedPass> mixed_passes_;  ///< solve_mixed's passes since the last hold
   std::vector<double> before_, now_;
   std::vector<char> fired_;
   std::vector<char> init_fired_;  ///< clauses fired in the event at initialisation

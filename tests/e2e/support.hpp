@@ -24,6 +24,7 @@
 #include "mo/runtime/simulate.hpp"
 #include "mo/symbolic/evaluator.hpp"
 #include "pipeline.hpp"
+#include "result_columns.hpp"
 
 namespace mo::e2e {
 
@@ -39,6 +40,7 @@ inline const std::string kData = std::string(MO_TEST_DATA_DIR) + "/";
 struct ModelSpec {
   tools::ModelSource source;
   std::vector<std::string> sensitivities;
+  bool all_variables = false;  ///< every variable a result column, as in morun's result.csv
 };
 
 /// Flattens, lowers and (optionally) augments `spec`; FAILs the test with
@@ -53,6 +55,7 @@ inline symbolic::OdeModel lower_spec(const ModelSpec& spec) {
   diags.print(printed);
   INFO("pipeline diagnostics for " << spec.source.file << ":\n" << printed.str());
   REQUIRE(ode);
+  if (spec.all_variables) tools::add_all_variables(*ode, ode->algebraics.size());
   const std::string error = tools::add_named_sensitivities(*ode, spec.sensitivities);
   INFO(error);
   REQUIRE(error.empty());
