@@ -482,6 +482,13 @@ void Flattener::make_elements(Instance &inst, const ast::Component &comp, const 
   }
 }
 
+/// Whether modification `mod` of scalar `inst` was written outside the class
+/// that declares it (by a user of that class), or `inst` is the model's own.
+bool Flattener::written_by_user(const Instance &inst, const Modifier &mod) const {
+  const Instance *owner = inst.parent;  // the declaring class's instance (an array element's too)
+  return owner == top_.get() || (mod.scope != nullptr && mod.scope != owner);
+}
+
 void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifier &mod) {
   flat::Variable v;
   v.name = inst.flat;
@@ -519,6 +526,8 @@ void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifi
     if (sub.binding) {
       pending_by_var_[inst.var].push_back(pending_.size());
       pending_.push_back(PendingBinding{inst.var, name, sub});
+      if (name == "start")
+        model_->variables[static_cast<std::size_t>(inst.var)].start_by_user = written_by_user(inst, sub);
     }
   }
   if (mod.binding) {

@@ -268,6 +268,7 @@ public:
   void instantiate_component(Instance &parent, const ast::Component &comp, ClassNode *cls,
                              Modifier mod, unsigned depth);
   void make_scalar(Instance &inst, const ResolvedType &rt, const Modifier &mod);
+  bool written_by_user(const Instance &inst, const Modifier &mod) const;
   /// Instantiates a structured component (or array element) of class `cls`
   /// and checks that its modifiers name elements of it.
   void instantiate_structured(Instance &inst, ClassNode *cls, const Modifier &mod, unsigned depth);

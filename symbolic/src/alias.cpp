@@ -177,7 +177,9 @@ private:
   void inherit_start(int keep, int drop, Expr factor, Expr offset) {
     DaeVar& k = var(keep);
     const DaeVar& d = var(drop);
-    if (!((d.fixed && !k.fixed) || (d.start_given && !k.start_given))) return;
+    // An author's guess also replaces a start the class declared (not a fixed one).
+    if (!((d.fixed && !k.fixed) || (d.start_given && !k.start_given) || (d.start_guess && !k.start_guess && !k.fixed)))
+      return;
     if (a_.is_constant(offset, 0.0) && a_.is_constant(factor) && std::abs(a_.constant_value(factor)) == 1.0)
       k.start = a_.constant_value(factor) == 1.0 ? d.start : a_.neg(d.start);  // plain alias: no arithmetic
     else if (d.start.valid())
@@ -186,6 +188,7 @@ private:
       return;
     k.fixed = k.fixed || d.fixed;
     k.start_given = true;
+    k.start_guess = k.start_guess || d.start_guess;
   }
 
   /// drop := value; if drop has a derivative, it follows: k·der(keep), or 0

@@ -25,6 +25,10 @@ struct DaeVar {
   Expr start;                ///< start expression (constant or over parameters), may be invalid
   bool fixed = false;        ///< start declared fixed = true
   bool start_given = false;  ///< a start attribute was declared
+  /// The start was written by a user of the declaring class, or the variable
+  /// is the model's own (flat::Variable::start_by_user): the author's guess,
+  /// which tearing prefers as an iteration variable.
+  bool start_guess = false;
   bool source_derivative = false;  ///< der() of it is in the model (after aliases), not made by index reduction
   bool linear_derivative = false;  ///< ... in some equation with a time-invariant coefficient
   std::string state_select;  ///< "", never, avoid, default, prefer, always

@@ -430,6 +430,7 @@ private:
     if (s.kind != Slot::Var) return;
     DaeVar& d = dae_.vars[static_cast<std::size_t>(s.var)];
     d.start_given = at.start != nullptr;
+    d.start_guess = at.start != nullptr && v.start_by_user;
     d.start = at.start ? conv_->convert(*at.start) : dae_.arena.constant(0.0);
     // fixed = true of an Integer or Boolean variable (the MSL's friction
     // `mode`, `startForward`) fixes pre(v) = start, which the discrete reset

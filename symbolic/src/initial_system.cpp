@@ -255,7 +255,7 @@ private:
       const auto j = static_cast<std::size_t>(m.unknown_of[static_cast<std::size_t>(i)]);
       eqs.unknowns.push_back(unknowns_[j]);
       eqs.start.push_back(guess_[j]);
-      eqs.start_given.push_back(in_.start_given.count(unknowns_[j]) ? 1 : 0);
+      eqs.start_guess.push_back(in_.start_guess.count(unknowns_[j]) ? 1 : 0);
     }
     std::vector<Step> steps = solve_block_torn(a_, eqs, at_start(), in_.tearing);
     for (Step& step : steps) add(step);

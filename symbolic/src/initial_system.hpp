@@ -46,8 +46,9 @@ struct InitialInput {
   std::vector<std::pair<Expr, Expr>> fixed_algebraics;
   /// First Newton guess of an unknown (state, algebraic); 0 when absent.
   std::unordered_map<Expr, double, ExprHash> guess;
-  /// Unknowns whose start attribute was declared (preferred tearing variables).
-  std::unordered_set<Expr, ExprHash> start_given;
+  /// Unknowns whose start the model's author gave (DaeVar::start_guess:
+  /// preferred tearing variables).
+  std::unordered_set<Expr, ExprHash> start_guess;
   /// Tear the nonlinear blocks (LowerOptions::tearing).
   bool tearing = true;
   /// der(v) in an initial equation of a variable the model computes but does

@@ -188,7 +188,7 @@ private:
       const int var = sys_.unknowns[at(m_.unknown_of[at(i)])];
       eqs.unknowns.push_back(map_.at(dae_.vars[at(var)].symbol));
       eqs.start.push_back(start_values_[at(var)]);
-      eqs.start_given.push_back(dae_.vars[at(var)].start_given ? 1 : 0);
+      eqs.start_guess.push_back(dae_.vars[at(var)].start_guess ? 1 : 0);
     }
     std::vector<Step> steps = solve_block_torn(a(), eqs, at_start_, tear_);
     if (const auto* b = std::get_if<EquationBlock>(&steps.front()); b && b->linear && constant_singular(*b))
@@ -306,7 +306,7 @@ private:
       const auto it = map_.find(d.symbol);
       if (d.eliminated || it == map_.end()) continue;
       in.guess[it->second] = start_values_[v];
-      if (d.start_given) in.start_given.insert(it->second);
+      if (d.start_guess) in.start_guess.insert(it->second);
       // fixed = true on a variable that is not a state is an initial
       // equation; so on a state's derivative (the MSL's Inertia
       // `a(fixed = true)`: a = der(w) became w's derivative variable).

@@ -144,16 +144,16 @@ private:
     return n;
   }
 
-  bool given(std::size_t v) const { return v < b_.start_given.size() && b_.start_given[v]; }
+  bool given(std::size_t v) const { return v < b_.start_guess.size() && b_.start_guess[v]; }
 
   /// Cellier's choice among the unknowns not yet known (those not in `avoid`
-  /// when there are any; of those, the ones with a declared start value when
+  /// when there are any; of those, the ones whose start the author gave when
   /// there are any).
   std::size_t select(const TryState& s, const std::vector<char>& avoid) const {
     bool any_free = false;
     for (std::size_t v = 0; v < s.known.size(); ++v) any_free = any_free || (!s.known[v] && !avoid[v]);
     const auto open = [&](std::size_t v) { return !s.known[v] && (!any_free || !avoid[v]); };
-    bool any_given = false;  // (0) a declared start value first
+    bool any_given = false;  // (0) an author's start value first
     for (std::size_t v = 0; v < s.known.size(); ++v) any_given = any_given || (open(v) && given(v));
     const auto candidate = [&](std::size_t v) { return open(v) && (!any_given || given(v)); };
     int most = -1;  // (1) equations with the most unknowns left that hold a candidate

@@ -16,10 +16,15 @@
 //
 // Choice of the tearing variables, repeated until the torn residuals are
 // finite at the start point (every leaf at its start value, time 0, inputs 0)
-// or eight tries: (0) while an unknown with a declared start value is left,
+// or eight tries: (0) while an unknown whose start the author gave is left,
 // only those (as Dymola reads it: a start value is the author's guess for an
 // iteration variable; the MSL's Schmitt trigger gives `r2.i(start = Vps/R2)`
-// so that Newton finds the saturated solution, not the unstable one at 0);
+// so that Newton finds the saturated solution, not the unstable one at 0).
+// The author is who modifies a component, not its class: a start in the
+// declaring class (PartialCompliant's `s_rel(start = 0)`) is that class's
+// default for every use, and preferring it made the MSL's ThreeSprings
+// iterate on three spring lengths at 0 besides the joint position its
+// author started;
 // (1) the equations with the most unknowns left; (2) among their variables,
 // those in most remaining equations; (3) among those, the one after which
 // most equations become solvable for their last unknown.
@@ -42,9 +47,10 @@ struct BlockEquations {
   std::vector<Expr> unknowns;        ///< matched to the residuals, same length
   std::vector<double> start;         ///< first Newton guess per unknown
   std::vector<std::string> origins;  ///< per residual, may be empty strings
-  /// Per unknown: a start attribute was declared (the model's author gave a
-  /// guess; preferred as tearing variable). Empty means none was.
-  std::vector<char> start_given;
+  /// Per unknown: the model's author gave its start (a modification from
+  /// outside the class that declares it, or a variable of the model's own:
+  /// DaeVar::start_guess); preferred as tearing variable. Empty means none.
+  std::vector<char> start_guess;
 };
 
 /// Which variables tearing chose (indices into BlockEquations).

@@ -151,3 +151,55 @@ TEST_CASE("the MSL's MultiBody PointGravity: two free bodies fly their Kepler or
     }
   }
 }
+
+TEST_CASE("the MSL's MultiBody ThreeSprings: a free body on springs keeps its energy", "[msl]") {
+  auto model = msl_compiled_model("e2e_msl_multibody_three_springs",
+                                  {{kData + "MslMultiBody.mo", "ThreeSprings", {}, true}, {}, true});
+  if (!model) return;
+  const auto grid = runtime::OutputGrid::uniform(0, 10, 200);
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(), grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto col = [&](const std::string &name) { return column(r.trajectory, name); };
+  const auto at = [](const std::string &base, int i) { return base + "[" + std::to_string(i) + "]"; };
+  // body1: m = 0.8, I = 0.1 on the diagonal, r_CM = (0, -0.2, 0) in frame_a;
+  // gravity 9.81 along -y; springs of c = 20, 40, 20 N/m, unstretched 0.1 m, massless.
+  const double m = 0.8, inertia = 0.1, g = 9.81, s0 = 0.1;
+  const std::array<double, 3> r_cm{0, -0.2, 0};
+  std::array<std::array<std::vector<double>, 3>, 3> T;
+  std::array<std::vector<double>, 3> w, v0, r0;
+  for (int i = 1; i <= 3; ++i) {
+    for (int j = 1; j <= 3; ++j)
+      T[i - 1][j - 1] = col("body1.frame_a.R.T[" + std::to_string(i) + "," + std::to_string(j) + "]");
+    w[i - 1] = col(at("body1.w_a", i));
+    v0[i - 1] = col(at("body1.v_0", i));
+    r0[i - 1] = col(at("body1.frame_a.r_0", i));
+  }
+  const std::array<std::pair<const char *, double>, 3> springs{{{"spring1", 20}, {"spring2", 40}, {"spring3", 20}}};
+  std::vector<double> energy;
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const std::array<double, 3> wa{w[0][k], w[1][k], w[2][k]};
+    const std::array<double, 3> wxr{wa[1] * r_cm[2] - wa[2] * r_cm[1], wa[2] * r_cm[0] - wa[0] * r_cm[2],
+                                    wa[0] * r_cm[1] - wa[1] * r_cm[0]};
+    double kinetic = 0, y_cm = r0[1][k];
+    for (std::size_t i = 0; i < 3; ++i) {
+      double v = v0[i][k];  // v_CM = v_0 + Tᵀ (w × r_CM), T resolving world vectors in frame_a
+      for (std::size_t j = 0; j < 3; ++j) v += T[j][i][k] * wxr[j];
+      kinetic += 0.5 * m * v * v + 0.5 * inertia * wa[i] * wa[i];
+      y_cm += T[i][1][k] * r_cm[i];
+    }
+    double potential = m * g * y_cm;
+    for (const auto &[name, c] : springs) {
+      const double stretch = col(std::string(name) + ".spring.s_rel")[k] - s0;
+      potential += 0.5 * c * stretch * stretch;
+    }
+    energy.push_back(kinetic + potential);
+  }
+  double drift = 0, swing = 0;
+  for (std::size_t k = 0; k < energy.size(); ++k) {
+    drift = std::max(drift, std::fabs(energy[k] - energy[0]));
+    swing = std::max(swing, std::fabs(m * g * (r0[1][k] - r0[1][0])));
+  }
+  CHECK(swing > 0.1);  // the body moves: its weight's potential changes by more than 0.1 J
+  CHECK(drift < 1e-6);
+}

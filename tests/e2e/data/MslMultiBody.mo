@@ -16,3 +16,11 @@ end Pendulum;
 model PointGravity
   extends Modelica.Mechanics.MultiBody.Examples.Elementary.PointGravity;
 end PointGravity;
+
+// A free body hung from the world by three line-force springs, two of them
+// in series with a massless point between them (iterated on: the point's
+// position, whose start the example gives); no damping, so the body's
+// kinetic energy plus gravity's and the springs' potential is conserved.
+model ThreeSprings
+  extends Modelica.Mechanics.MultiBody.Examples.Elementary.ThreeSprings;
+end ThreeSprings;

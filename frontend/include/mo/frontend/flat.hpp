@@ -32,6 +32,10 @@ struct Variable {
   ast::Causality causality = ast::Causality::None;
   bool is_flow = false;
   bool top_level_input = false; ///< an input of the model itself: known, not solved for
+  /// The start attribute was written by a user of the variable's class (a
+  /// modification from outside the class that declares it), or the variable
+  /// is the model's own: the author's guess, not the class's default.
+  bool start_by_user = false;
   ast::ExprPtr binding;         ///< parameters only: the value expression
   std::optional<double> value;  ///< parameters: the binding evaluated, when it can be
   Attributes attr;
