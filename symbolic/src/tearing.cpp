@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <cstddef>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -185,14 +186,8 @@ private:
   }
 
   Tearing run(const std::vector<char>& avoid) const {
-    const std::size_t n = b_.unknowns.size();
-    TryState s{std::vector<char>(n, 0), std::vector<char>(n, 0), std::vector<int>(n, 0), {}};
+    TryState s = start_try();
     std::vector<std::size_t> work;
-    for (std::size_t e = 0; e < n; ++e) {
-      s.left[e] = static_cast<int>(vars_of_[e].size());
-      if (s.left[e] <= 1) work.push_back(e);
-    }
-    propagate(s, work);
     for (;;) {
       const auto open = std::find(s.known.begin(), s.known.end(), 0);
       if (open == s.known.end()) break;
@@ -201,7 +196,53 @@ private:
       mark_known(s, v, work);
       propagate(s, work);
     }
-    return s.result;
+    return prune(std::move(s.result));
+  }
+
+  /// The try before any tearing: every equation with one unknown solved.
+  TryState start_try() const {
+    const std::size_t n = b_.unknowns.size();
+    TryState s{std::vector<char>(n, 0), std::vector<char>(n, 0), std::vector<int>(n, 0), {}};
+    std::vector<std::size_t> work;
+    for (std::size_t e = 0; e < n; ++e) {
+      s.left[e] = static_cast<int>(vars_of_[e].size());
+      if (s.left[e] <= 1) work.push_back(e);
+    }
+    propagate(s, work);
+    return s;
+  }
+
+  /// The causal order with `iteration` torn, in that order (one that an
+  /// earlier one already makes explicit is left out); nullopt if some
+  /// unknown is still open after them.
+  std::optional<Tearing> with_iteration(const std::vector<std::size_t>& iteration) const {
+    TryState s = start_try();
+    std::vector<std::size_t> work;
+    for (std::size_t v : iteration) {
+      if (s.known[v]) continue;
+      s.result.iteration.push_back(v);
+      mark_known(s, v, work);
+      propagate(s, work);
+    }
+    if (std::find(s.known.begin(), s.known.end(), 0) != s.known.end()) return std::nullopt;
+    return std::move(s.result);
+  }
+
+  /// Drops the tearing variables that the others determine explicitly (the
+  /// greedy choice takes a variable before the ones that later make it
+  /// explicit: MultiBody's spring lengths before the joint position they
+  /// follow from), the latest choice first; a variable with the author's
+  /// start stays.
+  Tearing prune(Tearing t) const {
+    std::vector<std::size_t> kept = t.iteration;
+    for (std::size_t k = kept.size(); k-- > 0;) {
+      if (given(kept[k])) continue;
+      std::vector<std::size_t> fewer = kept;
+      fewer.erase(fewer.begin() + static_cast<std::ptrdiff_t>(k));
+      if (with_iteration(fewer)) kept = std::move(fewer);
+    }
+    if (kept.size() == t.iteration.size()) return t;
+    return *with_iteration(kept);
   }
 
   /// Whether the torn residuals and explicit values are finite with the

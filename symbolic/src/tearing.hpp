@@ -22,7 +22,8 @@
 // so that Newton finds the saturated solution, not the unstable one at 0).
 // The author is who modifies a component, not its class: a start in the
 // declaring class (PartialCompliant's `s_rel(start = 0)`) is that class's
-// default for every use, and preferring it made the MSL's ThreeSprings
+// default for every use unless the user makes it an initial value (a joint's
+// `phi(fixed = true)`); preferring such defaults made the MSL's ThreeSprings
 // iterate on three spring lengths at 0 besides the joint position its
 // author started;
 // (1) the equations with the most unknowns left; (2) among their variables,

@@ -32,9 +32,10 @@ struct Variable {
   ast::Causality causality = ast::Causality::None;
   bool is_flow = false;
   bool top_level_input = false; ///< an input of the model itself: known, not solved for
-  /// The start attribute was written by a user of the variable's class (a
-  /// modification from outside the class that declares it), or the variable
-  /// is the model's own: the author's guess, not the class's default.
+  /// The start attribute is the author's, not the declaring class's default:
+  /// a user of that class (a modification from outside it) wrote the start,
+  /// or made it an initial value (fixed = true), or the variable is the
+  /// model's own.
   bool start_by_user = false;
   ast::ExprPtr binding;         ///< parameters only: the value expression
   std::optional<double> value;  ///< parameters: the binding evaluated, when it can be

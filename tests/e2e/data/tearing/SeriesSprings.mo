@@ -38,6 +38,28 @@ package SeriesSprings
     m*der(v) = -spring2.f*spring2.e - {0, m*g};
   end TwoInSeries;
 
+  // TwoInSeries with the joint's start left out: no author's guess, so
+  // Cellier's heuristic alone chooses, and takes the lengths first (they are
+  // in the most equations); the joint position, torn after them, makes them
+  // explicit, so they are dropped again.
+  model TwoInSeriesUnguessed
+    parameter Real m = 0.8;
+    parameter Real g = 9.81;
+    Spring spring1(c = 20, L = 0.1);
+    Spring spring2(c = 40, L = 0.1);
+    Real b[2](start = {0.5, -0.3}, each fixed = true);
+    Real v[2](each start = 0, each fixed = true);
+    Real p[2];
+  equation
+    spring1.a = {0, 0};
+    spring1.b = p;
+    spring2.a = p;
+    spring2.b = b;
+    zeros(2) = -spring1.f*spring1.e + spring2.f*spring2.e;
+    der(b) = v;
+    m*der(v) = -spring2.f*spring2.e - {0, m*g};
+  end TwoInSeriesUnguessed;
+
   model EquivalentSpring
     parameter Real c = 20*40/(20 + 40);
     parameter Real L = 0.2;
