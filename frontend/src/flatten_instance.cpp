@@ -529,7 +529,8 @@ void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifi
       // The author's start: one they write, or the class's that they make an
       // initial value (`phi(fixed = true)` on a joint whose class declares
       // phi(start = 0)).
-      const bool fixed_false = name == "fixed" && sub.binding->kind == ast::ExprKind::Boolean && sub.binding->number == 0.0;
+      const bool fixed_false =
+          name == "fixed" && sub.binding->kind == ast::ExprKind::Boolean && sub.binding->number == 0.0;
       if ((name == "start" || (name == "fixed" && !fixed_false)) && written_by_user(inst, sub))
         model_->variables[static_cast<std::size_t>(inst.var)].start_by_user = true;
     }

@@ -3,8 +3,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <cstddef>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 

@@ -28,7 +28,10 @@
 // author started;
 // (1) the equations with the most unknowns left; (2) among their variables,
 // those in most remaining equations; (3) among those, the one after which
-// most equations become solvable for their last unknown.
+// most equations become solvable for their last unknown. Then each chosen
+// variable without the author's start, the latest first, is dropped when the
+// others still make every unknown explicit (the greedy order tears a spring's
+// length before the joint position it follows from).
 // A try whose torn residuals are not finite (a guess of 0 that makes a
 // thermal voltage 0 and `v/vt` 0/0) marks its tearing variables "avoid" and
 // tries again; a variable to avoid is chosen only when no other remains.
