@@ -26,7 +26,7 @@ const runtime::OutputGrid& grid() {
 
 }  // namespace
 
-TEST_CASE("algorithms: generated code equals the interpreter; Jacobians equal differences", "[e2e][algorithms]") {
+TEST_CASE("algorithms: generated code equals the interpreter - Jacobians equal differences", "[e2e][algorithms]") {
   const symbolic::OdeModel m = lower_spec({damper(), {}});
   symbolic::OdeInterpreter interpreter(m);
   auto model = compiled_model("e2e_algorithm_damper", {damper(), {}});

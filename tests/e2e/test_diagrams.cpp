@@ -160,7 +160,7 @@ TEST_CASE("morun SeriesRLC.xcos: the step response of the series RLC circuit", "
   CHECK(summary.find("\"diagram\"") != std::string::npos);  // timings_seconds has the Scilab phase
 }
 
-TEST_CASE("morun SeriesRLC.zcos: its constant block closes the loop; the step response without --input",
+TEST_CASE("morun SeriesRLC.zcos: its constant block closes the loop - the step response without --input",
           "[diagram][scilab]") {
   REQUIRE_SCILAB();
   const fs::path dir = scratch("diagram-series-rlc-closed");

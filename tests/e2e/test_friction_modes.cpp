@@ -347,7 +347,7 @@ TEST_CASE("a preferred variable that cannot be a state leaves the others preferr
   CHECK(states == std::vector<std::string>{"s2", "s_rel", "v2", "v_rel"});
 }
 
-TEST_CASE("a when-clause's equations read each other's new values; change() sees another clause's", "[events]") {
+TEST_CASE("a when-clause's equations read each other's new values - change() sees another clause's", "[events]") {
   auto model = compiled_model("e2e_table_clauses", {{kData + "TableClauses.mo", "", {}, true}, {}});
   const auto p = model->info().default_parameters();
   const std::pair<double, double> expected[] = {{0.5, 0}, {1.5, 10}, {2.5, 20}, {3.5, 30}, {4.5, 40}};

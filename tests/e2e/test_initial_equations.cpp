@@ -84,7 +84,7 @@ TEST_CASE("initial equation der(x) = 0 starts in equilibrium, with dx0/db = 1/a"
   check_sensitivity("SteadyState", "a", {"x"}, 1e-6);
 }
 
-TEST_CASE("a nonlinear initial equation is solved by Newton at t0; sensitivities through it") {
+TEST_CASE("a nonlinear initial equation is solved by Newton at t0 - sensitivities through it") {
   auto model = compiled_model("e2e_init_NonlinearStart", {source("NonlinearStart"), {}});
   std::vector<double> x0(2);
   model->initial_state(model->info().default_parameters(), x0);
@@ -132,7 +132,7 @@ TEST_CASE("inherited and array initial equations determine every state (interpre
   CHECK(x0[m.state_index("x[2]").value()] == Approx(2.0).epsilon(1e-14));  // y - x2 = 0
 }
 
-TEST_CASE("a fixed = false parameter is computed by the initial system; sensitivities through it") {
+TEST_CASE("a fixed = false parameter is computed by the initial system - sensitivities through it") {
   const auto [ok, text] = lower_text("FreeParameter");
   INFO(text);
   REQUIRE(ok);
@@ -197,7 +197,7 @@ TEST_CASE("a fixed velocity of a variable replaced by a relative position starts
   simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 0.2, 40), "s_rel", s_rel, 1e-7);
 }
 
-TEST_CASE("a variable its equation leaves undetermined at t0 keeps its start; Newton steps off a singular Jacobian") {
+TEST_CASE("a variable its equation leaves undetermined at t0 keeps its start - Newton steps off a singular Jacobian") {
   const auto [ok, text] = lower_text("SaturatingCoil");
   INFO(text);
   REQUIRE(ok);

@@ -36,7 +36,7 @@ TEST_CASE("initial algorithm of discrete variables: the MSL Pulse started 2.5 pe
   CHECK(std::fabs(discrete_value(*model, "T_start") - 1.5) < 1e-8);
 }
 
-TEST_CASE("when initial() fires at t0 with pre(v) = v.start; other clauses only on their edge") {
+TEST_CASE("when initial() fires at t0 with pre(v) = v.start - other clauses only on their edge") {
   auto model = compiled_model("e2e_when_initial", {{kData + "WhenInitial.mo", "", {}, true}, {}});
   const auto p = model->info().default_parameters();
   std::vector<double> x0(model->info().states.size());

@@ -141,7 +141,7 @@ TEST_CASE("the impure generator: drawn at translation in initial equations, step
   }
 }
 
-TEST_CASE("the impure generator: two draws in one when-clause; three, or draws in two clauses, refused") {
+TEST_CASE("the impure generator: two draws in one when-clause - three, or draws in two clauses, refused") {
   std::uint64_t words[16];
   for (int i = 0; i < 16; ++i) words[i] = word(11 + 2 * i + 1, 11 + 2 * i + 2);
   int p = 0;

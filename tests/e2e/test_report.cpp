@@ -126,7 +126,7 @@ TEST_CASE("report: a simulation's summary.json has timings for every phase and u
   CHECK(slurp(dir / "out" / "sensitivities.svg").find("[m/kg]") != std::string::npos);
 }
 
-TEST_CASE("report: progress lines on stderr, none with --quiet; timings in study summaries") {
+TEST_CASE("report: progress lines on stderr, none with --quiet - timings in study summaries") {
   const fs::path dir = scratch("report_progress");
   // A delay and interval of 0.05 s make the reduced design's stages report.
   Run r = morun_env("MO_PROGRESS_SECONDS=0.05", design_args(dir / "loud"), dir);
@@ -172,7 +172,7 @@ TEST_CASE("report: progress lines on stderr, none with --quiet; timings in study
   CHECK(r.err.find("local optim") != std::string::npos);
 }
 
-TEST_CASE("report: estimation and Monte-Carlo summaries have timings; the fit has a confidence band") {
+TEST_CASE("report: estimation and Monte-Carlo summaries have timings - the fit has a confidence band") {
   const fs::path dir = scratch("report_estimate");
   const fs::path design = dir / "design";
   Run r = morun(design_args(design), dir);

@@ -79,7 +79,7 @@ end AllVariables;
 
 }  // namespace
 
-TEST_CASE("result.csv holds every variable of the model by default; --variables filters", "[robust]") {
+TEST_CASE("result.csv holds every variable of the model by default - --variables filters", "[robust]") {
   const fs::path dir = scratch("robust_all_variables");
   const fs::path mo = model_file(dir, "AllVariables", kAllVariables);
   const Run r = morun(quoted(mo.string()) + " --stop-time 1 --intervals 10 -o " + quoted((dir / "all").string()), dir);

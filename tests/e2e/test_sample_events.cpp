@@ -78,7 +78,7 @@ TEST_CASE("sample(): a run that starts at t0 > 0 ticks at t0 only if t0 is a tic
   CHECK(discrete_value(*model, "m") == 0.0);  // x stays below 0.52
 }
 
-TEST_CASE("sample(): the ticks move with a parameter interval; sensitivities to it are refused") {
+TEST_CASE("sample(): the ticks move with a parameter interval - sensitivities to it are refused") {
   auto model = compiled_model("e2e_sample_clock", {{kData + "SampleClock.mo", "", {}, true}, {}});
   auto p = model->info().default_parameters();
   p[parameter(model->info(), "T")] = 0.3;

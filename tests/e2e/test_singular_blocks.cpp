@@ -1,8 +1,9 @@
 // Linear blocks that become singular while a model runs (runtime
 // solve_linear): consistent equations get their minimum-norm solution and a
 // warning naming the block, contradicting ones stop the run. Checked on a
-// shaft clamped by two brakes (exact), and on the MSL's LossyGearDemo2
-// against its reference result (Dymola's).
+// shaft clamped by two brakes (exact), on two friction elements stuck at once
+// (the event iteration's cycle at a tie, codegen's solve_mixed), and on the
+// MSL's LossyGearDemo2 against its reference result (Dymola's), flags too.
 #include <cmath>
 #include <fstream>
 #include <map>

@@ -135,7 +135,7 @@ TEST_CASE("the MSL's CombiTimeTable, CombiTable1Ds and CombiTable2D follow their
   }
 }
 
-TEST_CASE("Akima splines (ContinuousDerivative) follow the library's coefficients; sensitivities too", "[tables]") {
+TEST_CASE("Akima splines (ContinuousDerivative) follow the library's coefficients - sensitivities too", "[tables]") {
   // Tables.Spline: a time table and a 1-D table through the same rows,
   // against the spline computed in numbers; dy/d table[3,2] against central
   // differences of that computation.

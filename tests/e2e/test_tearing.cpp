@@ -105,7 +105,7 @@ TEST_CASE("tearing: the whole block fails at t = 0 from zero guesses, the torn o
   CHECK(max_abs_difference(td, tc) > 0.5);
 }
 
-TEST_CASE("tearing: generated code equals the interpreter; Jacobians equal differences", "[e2e][tearing]") {
+TEST_CASE("tearing: generated code equals the interpreter - Jacobians equal differences", "[e2e][tearing]") {
   const symbolic::OdeModel m = lower_source(diode(), true);
   symbolic::OdeInterpreter interpreter(m);
   auto torn = codegen::test::compiled("e2e_tearing_torn", [] { return lower_source(diode(), true); });

@@ -41,7 +41,7 @@ std::string block(int k, const std::string& gui, const std::string& sim, const s
 
 }  // namespace
 
-TEST_CASE("diagram blocks: a relay on the model's output closes input 1; a RELAY_f leaves input 2 open",
+TEST_CASE("diagram blocks: a relay on the model's output closes input 1 - a RELAY_f leaves input 2 open",
           "[xcos][diagram]") {
   // 1 CONST_m 0.5, 2 SUMMATION (+1, -1): e = 0.5 - y, 3 HYSTHERESIS, 4 RELAY_f (not translated).
   const auto blocks = parse("mo-xcos-blocks 1\nmodelica 5 2 1\n" + block(1, "CONST_m", "cstblk4_m", "opar 1 0.5\n") +

@@ -86,7 +86,7 @@ TEST_CASE("connect: potentials equal, flows sum to zero, unconnected flows zero"
   CHECK(s.find("`b.n.i` = 0.;") != std::string::npos);
 }
 
-TEST_CASE("if-equations on parameters are decided; when-clauses and reinit are kept", "[flatten]") {
+TEST_CASE("if-equations on parameters are decided - when-clauses and reinit are kept", "[flatten]") {
   const char *src = R"(
     model Ball
       parameter Boolean bounce = true;

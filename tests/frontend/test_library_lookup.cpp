@@ -111,7 +111,7 @@ TEST_CASE("using the unfinished class reports its syntax error", "[lookup]") {
   CHECK(r.diagnostics.find("Draft.mo:4:1: error: unexpected 'equation'") != std::string::npos);
 }
 
-TEST_CASE("a class beside the compiled file is found; the first root wins", "[lookup]") {
+TEST_CASE("a class beside the compiled file is found - the first root wins", "[lookup]") {
   TempDir dir("beside");
   dir.write("Plant.mo", "model Plant\n  parameter Real a = 2;\n  Real x(start = 1, fixed = true);\n"
                         "equation\n  der(x) = -a * x;\nend Plant;\n");

@@ -538,7 +538,7 @@ TEST_CASE("connections through arrays of components to their switched-off connec
   CHECK(contains(on.model->print(), "p.e[3].heatPort.T"));
 }
 
-TEST_CASE("connected parameters give no equations; different values are an error", "[msl]") {
+TEST_CASE("connected parameters give no equations - different values are an error", "[msl]") {
   // The MSL's multi-phase plugs carry their phase count: `connector Plug
   // parameter Integer m = 3; Pin pin[m]; end Plug;` (9.2: no equation for it).
   const std::string lib = R"(

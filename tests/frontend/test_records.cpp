@@ -21,7 +21,7 @@ Compiled with_pt(const std::string &model) { return compile({{"Pt.mo", kPt}, {"M
 
 } // namespace
 
-TEST_CASE("records: a binding binds each field; a constructor's default reads the fields before it",
+TEST_CASE("records: a binding binds each field - a constructor's default reads the fields before it",
           "[flatten][records]") {
   Compiled c = with_pt(R"(
 model M
