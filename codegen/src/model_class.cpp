@@ -600,7 +600,7 @@ private:
     for (std::size_t pass = 0; pass < 2 * nd + 8; ++pass) {
       bool changed = fire_every_event(true);
       if (changed) section_steps();
-      if (ng > 0) {
+      if (ng > 0 && pass > 0) {  // most calls settle in their first pass: nothing to record
         const std::size_t first = record_mixed_pass();
         if (first + 1 < mixed_passes_.size() && hold_ties(first)) mixed_passes_.clear();
       }
