@@ -37,6 +37,17 @@ std::string env(const char* name) {
   return value ? value : "";
 }
 
+/// The user's _JAVA_OPTIONS with Java's temporary folder set to `tmp`: Scilab's
+/// Java ignores TMPDIR and leaves its font files (+~JF*.tmp) in /tmp at every
+/// run. _JAVA_OPTIONS is split at white space, so a folder with any keeps the
+/// user's options as they are (and Java's files go to /tmp as before).
+std::string java_options(const fs::path& tmp) {
+  const std::string given = env("_JAVA_OPTIONS");
+  const std::string folder = tmp.string();
+  if (std::any_of(folder.begin(), folder.end(), [](unsigned char c) { return std::isspace(c); })) return given;
+  return (given.empty() ? "" : given + " ") + "-Djava.io.tmpdir=" + folder;
+}
+
 /// The private work folder (mode 0700), removed on destruction unless released.
 class WorkDir {
 public:
@@ -252,6 +263,7 @@ std::unique_ptr<ExtractedDiagram> extract_flat_model(const std::string& diagram,
   run.environment = {{"MO_XCOS_WORK", work.path().string()},
                      {"MO_XCOS_DIAGRAM", copy},
                      {"TMPDIR", (work.path() / "scilab-tmp").string()},
+                     {"_JAVA_OPTIONS", java_options(work.path() / "scilab-tmp")},
                      {"MO_XCOS_MODE", options.blocks_only ? "blocks" : "flat"}};
   run.log_file = (work.path() / "scilab.log").string();
   run.done_file = (work.path() / "done").string();

@@ -66,6 +66,24 @@ TEST_CASE("diagram with a Scilab that hangs: stopped at --scilab-timeout", "[dia
   CHECK(seconds < 20.0);
 }
 
+TEST_CASE("diagram: Scilab's Java keeps its temporary files in the private work folder", "[diagram]") {
+  // Java ignores TMPDIR: without java.io.tmpdir its font files (+~JF*.tmp)
+  // stay in /tmp after every diagram. The user's own _JAVA_OPTIONS come first.
+  const fs::path record = scratch("diagram-java-tmpdir-record") / "env.txt";
+  const Run r = compile_diagram("diagram-java-tmpdir", {"MO_SCILAB=" + (kData / "env-recording-scilab.sh").string(),
+                                                        "DISPLAY=:0", "MO_TEST_RECORD=" + record.string(),
+                                                        "_JAVA_OPTIONS=-Xmx512m"});
+  CHECK(r.status == 1);  // the stand-in compiles nothing
+  std::istringstream lines(slurp(record));
+  std::string java, tmpdir;
+  std::getline(lines, java);
+  std::getline(lines, tmpdir);
+  INFO(java << "\n" << tmpdir);
+  const std::string work = (fs::path(MO_BINARY_DIR) / "e2e-scratch" / "diagram-java-tmpdir" / "tmp").string();
+  REQUIRE(tmpdir.rfind(work + "/mocompile-xcos-", 0) == 0);  // the work folder in the run's TMPDIR
+  CHECK(java == "-Xmx512m -Djava.io.tmpdir=" + tmpdir);
+}
+
 TEST_CASE("diagram: --scilab-lib must be a folder", "[diagram]") {
   const Run r = compile_diagram("diagram-bad-lib", {}, {"--scilab-lib", "/nonexistent/coselica"});
   CHECK(r.status == 2);
