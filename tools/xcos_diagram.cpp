@@ -222,7 +222,7 @@ void save_files(const fs::path& out, const std::string& dir) {
   fs::create_directories(dir);
   for (const auto& entry : fs::directory_iterator(out)) {
     const std::string name = entry.path().filename().string();
-    if (name.size() > 4 && (name.ends_with(".mo") || name.ends_with(".xml")))
+    if ((name.size() > 4 && (name.ends_with(".mo") || name.ends_with(".xml"))) || name == "translator_libs.txt")
       fs::copy_file(entry.path(), fs::path(dir) / name, fs::copy_options::overwrite_existing);
   }
 }

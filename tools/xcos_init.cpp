@@ -1,5 +1,6 @@
 #include "xcos_init.hpp"
 #include "xcos_diagram.hpp"
+#include "xcos_fixed_flags.hpp"
 
 #include <expat.h>
 
@@ -95,6 +96,14 @@ std::optional<double> literal(std::string text) {
   return v;
 }
 
+/// "N variable(s): a, b, ... and K more".
+std::string listed(const std::vector<std::string>& names) {
+  std::string text = fmt::format("{} variable{}: ", names.size(), names.size() == 1 ? "" : "s");
+  for (std::size_t i = 0; i < names.size() && i < 8; ++i) text += (i ? ", " : "") + names[i];
+  if (names.size() > 8) text += fmt::format(" and {} more", names.size() - 8);
+  return text;
+}
+
 }  // namespace
 
 std::vector<InitTerminal> read_init_file(const fs::path& file) {
@@ -128,23 +137,29 @@ std::vector<InitTerminal> read_init_file(const fs::path& file) {
   return std::move(r.terminals);
 }
 
-std::vector<std::string> apply_init_file(frontend::flat::Model& model, const std::vector<InitTerminal>& terminals) {
-  std::vector<std::string> fixed;
+InitFlags apply_init_file(frontend::flat::Model& model, const std::vector<InitTerminal>& terminals,
+                          const std::map<std::string, bool>* declared) {
+  InitFlags out;
   for (const auto& t : terminals) {
     if (t.kind != "variable" || t.fixed != "true") continue;
     const auto index = model.find(t.id);
     if (index < 0) continue;  // e.g. the translator's __der_ entries
     auto& v = model.variables[static_cast<std::size_t>(index)];
     if (!v.is_unknown()) continue;
+    if (declared)
+      if (const auto it = declared->find(t.id); it != declared->end() && !it->second) {
+        out.not_declared.push_back(v.name);
+        continue;
+      }
     if (!v.attr.start) {
       const auto value = literal(t.initial_value);
       if (!value) continue;  // no start value to fix the variable to
       v.attr.start = frontend::ast::make_real(*value);
     }
     v.attr.fixed = frontend::ast::make_bool(true);
-    fixed.push_back(v.name);
+    out.fixed.push_back(v.name);
   }
-  return fixed;
+  return out;
 }
 
 std::string apply_diagram_init(frontend::flat::Model& model, const fs::path& file, const std::string& tool) {
@@ -155,13 +170,24 @@ std::string apply_diagram_init(frontend::flat::Model& model, const fs::path& fil
   } catch (const std::runtime_error& e) {
     throw DiagramError(e.what());
   }
-  const auto fixed = apply_init_file(model, terminals);
-  if (fixed.empty()) return {};
-  std::string names;
-  for (std::size_t i = 0; i < fixed.size() && i < 8; ++i) names += (i ? ", " : "") + fixed[i];
-  if (fixed.size() > 8) names += fmt::format(" and {} more", fixed.size() - 8);
-  return fmt::format("{}: note: the diagram's init file fixes the start value of {} variable{}: {}", tool,
-                     fixed.size(), fixed.size() == 1 ? "" : "s", names);
+  std::string why, lines;
+  const auto declared = declared_fixed_flags(file, why);
+  if (!declared)
+    lines = fmt::format("{}: warning: the init file's fixed flags are taken as they are, unchecked ({}); the "
+                        "translator marks fixed every variable whose fixed attribute depends on a block "
+                        "parameter\n",
+                        tool, why);
+  const InitFlags flags = apply_init_file(model, terminals, declared ? &*declared : nullptr);
+  if (!flags.not_declared.empty())
+    lines += fmt::format("{}: note: the init file marks fixed, but the model does not fix with the diagram's "
+                         "parameters (Scilab's translator marks every fixed attribute that depends on a block "
+                         "parameter), {}: left free\n",
+                         tool, listed(flags.not_declared));
+  if (!flags.fixed.empty())
+    lines += fmt::format("{}: note: the diagram's init file fixes the start value of {}\n", tool,
+                         listed(flags.fixed));
+  if (!lines.empty()) lines.pop_back();
+  return lines;
 }
 
 }  // namespace mo::tools

@@ -8,7 +8,10 @@
 //
 // Applied with --init-fixed as Scilab's initialisation dialog (and Modelica 3
 // §8.6) reads it: a variable
-// whose flag is "true" gets fixed = true (an initial equation v = start).
+// whose flag is "true" gets fixed = true (an initial equation v = start),
+// unless the model declares it not fixed: the translator marks "true" every
+// `fixed` that depends on a block parameter, whatever its value
+// (xcos_fixed_flags.hpp).
 // Parameters are left alone: Scilab writes fixed = false on every block
 // parameter for its initialisation dialog, and with no initial equation to
 // determine them they keep their values. Note that Scilab's own simulation
@@ -17,6 +20,7 @@
 #pragma once
 
 #include <filesystem>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -37,12 +41,22 @@ struct InitTerminal {
 /// "FILE:LINE: error: ..." on malformed XML.
 std::vector<InitTerminal> read_init_file(const std::filesystem::path& file);
 
-/// Applies the fixed flags of `terminals` to `model` (see the file comment).
-/// Returns the names of the variables made fixed = true, in file order.
-std::vector<std::string> apply_init_file(frontend::flat::Model& model, const std::vector<InitTerminal>& terminals);
+/// What apply_init_file did.
+struct InitFlags {
+  std::vector<std::string> fixed;         ///< made fixed = true, in file order
+  std::vector<std::string> not_declared;  ///< flagged, but `declared` says not fixed: left alone
+};
 
-/// read_init_file + apply_init_file for `file` (nothing when empty); a line
-/// for stderr naming what was applied (empty when nothing was). Throws
+/// Applies the fixed flags of `terminals` to `model` (see the file comment),
+/// except those that `declared` (the model's own flags by the translator's
+/// names, xcos_fixed_flags.hpp; may be null) says are false.
+InitFlags apply_init_file(frontend::flat::Model& model, const std::vector<InitTerminal>& terminals,
+                          const std::map<std::string, bool>* declared);
+
+/// read_init_file + apply_init_file for `file` (nothing when empty), checked
+/// against the declared flags of the hierarchical model beside it
+/// (xcos_fixed_flags.hpp); lines for stderr naming what was applied and what
+/// was left free, or why the flags went unchecked (empty when nothing). Throws
 /// DiagramError (xcos_diagram.hpp) when the file is not well-formed XML.
 std::string apply_diagram_init(frontend::flat::Model& model, const std::filesystem::path& file,
                                const std::string& tool);

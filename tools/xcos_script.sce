@@ -9,6 +9,8 @@
 //   status.txt  first line ok | missing-blocks | no-modelica | unsafe-name | error,
 //               then details
 //   out/        the files the translator wrote (<title>_im.mo, <title>_imf.mo, ...)
+//               and translator_libs.txt: the Modelica files and folders the
+//               translator read (those of Scilab's TMPDIR copied beside it)
 //   done        written last: mocompile stops Scilab once it exists
 // Input files: diagram.zcos or diagram.xcos (MO_XCOS_DIAGRAM names it),
 // libraries.txt (one block-library folder a line, maybe empty).
@@ -114,6 +116,45 @@ function [model, ok] = build_modelica_block(blklstm, corinvm, cmmat, NiM, NoM, N
         return;
     end
     [model, ok] = mo_build_modelica_block(blklstm, corinvm, cmmat, NiM, NoM, NvM, scs_m, path);
+endfunction
+
+// The Modelica files and folders the translator reads (as translator.sci
+// builds its -lib list), one a line in out/translator_libs.txt: mocompile
+// flattens <title>_im.mo with them to check the init file's fixed flags.
+mo_translator = translator;
+function ok = translator(filemo, Mblocks, libs, Flat)
+    try
+        [mo_paths, mo_dir] = getModelicaPath();
+        used = [];
+        for k = 1:size(Mblocks, "r")
+            funam = stripblanks(Mblocks(k));
+            [d, n, e] = fileparts(funam);
+            if e == ".mo" then
+                used = [used; funam];
+            else
+                used = [used; mo_dir + funam + ".mo"];
+            end
+        end
+        folders = pathconvert(libs, %f, %t);
+        for k = 1:size(folders, "*")
+            used = [used; folders(k)];
+        end
+        // Files in Scilab's TMPDIR (a generic block's model) go when Scilab
+        // exits: copied to out/ and listed by name.
+        out = getenv("MO_XCOS_WORK") + "/out/";
+        tmp = pathconvert(TMPDIR, %t, %t);
+        for k = 1:size(used, "*")
+            if strindex(used(k), tmp) == 1 & isfile(used(k)) then
+                [d, n, e] = fileparts(used(k));
+                copyfile(used(k), out + n + e);
+                used(k) = n + e;
+            end
+        end
+        mputl(used, out + "translator_libs.txt");
+    catch
+        mprintf("mocompile: listing the translator''s libraries failed: %s\n", lasterror());
+    end
+    ok = mo_translator(filemo, Mblocks, libs, Flat);
 endfunction
 
 function mo_finish(status)

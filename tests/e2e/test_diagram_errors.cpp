@@ -191,6 +191,35 @@ TEST_CASE("diagram init file: with --init-fixed a variable it fixes sets the ini
   CHECK(y1 == 0.0);
 }
 
+TEST_CASE("diagram init file: a flag the model does not declare stays free", "[diagram]") {
+  // Two Doublers (der(x) = -x, y = 2 x, y start 4) whose y is fixed when
+  // initType > 0: Fixed1 has initType = 1, Free1 0. Scilab's translator marks
+  // both y fixed in the init file; the model's own flags fix Fixed1.y alone:
+  // Fixed1.x(0) = 2, Free1.x keeps its start 0.
+  const Run r = run_translated("diagram-init-declared", kData / "declared-fixed");
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.err.find("morun: note: the init file marks fixed, but the model does not fix") != std::string::npos);
+  CHECK(r.err.find("block parameter), 1 variable: Free1.y: left free") != std::string::npos);
+  CHECK(r.err.find("morun: note: the diagram's init file fixes the start value of 1 variable: Fixed1.y") !=
+        std::string::npos);
+  CHECK(r.err.find("warning") == std::string::npos);
+  const fs::path csv = kScratch / "diagram-init-declared" / "out" / "result.csv";
+  CHECK(first_last(csv, "Fixed1.x").first == Approx(2.0).epsilon(1e-9));
+  CHECK(first_last(csv, "Free1.x").first == 0.0);
+
+  // Without the hierarchical model the flags are applied as written, with a warning.
+  const fs::path partial = scratch("diagram-init-declared-partial-files");
+  for (const char* f : {"Declared_imf.mo", "Declared_imf_init.xml"})
+    fs::copy_file(kData / "declared-fixed" / f, partial / f, fs::copy_options::overwrite_existing);
+  const Run unchecked = run_translated("diagram-init-declared-partial", partial);
+  INFO(unchecked.err);
+  REQUIRE(unchecked.status == 0);
+  CHECK(unchecked.err.find("morun: warning: the init file's fixed flags are taken as they are, unchecked "
+                           "(Declared_im.mo is missing beside the init file)") != std::string::npos);
+  CHECK(unchecked.err.find("fixes the start value of 2 variables: Free1.y, Fixed1.y") != std::string::npos);
+}
+
 TEST_CASE("diagram init file: malformed XML or a DTD is an error with its line", "[diagram]") {
   const fs::path bad = scratch("diagram-init-bad-files");
   fs::create_directories(bad);

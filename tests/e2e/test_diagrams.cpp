@@ -318,6 +318,10 @@ TEST_CASE("morun FixedInit.zcos --init-fixed: the init file's fixed flag sets th
   REQUIRE(r.status == 0);
   CHECK(r.err.find("morun: note: the diagram's init file fixes the start value of 1 variable: FixedLag1.y") !=
         std::string::npos);
+  // The flag was checked against the model's own declaration: the script
+  // listed the translator's files (the block's text copied out of Scilab's
+  // TMPDIR) and FixedInit_im.mo flattened with them.
+  CHECK(r.err.find("unchecked") == std::string::npos);
   const auto [times, x] = csv_column(dir / "out" / "result.csv", "FixedLag1.x");
   REQUIRE(!x.empty());
   CHECK(times.front() == 0.0);
