@@ -144,7 +144,7 @@ function ok = translator(filemo, Mblocks, libs, Flat)
         out = getenv("MO_XCOS_WORK") + "/out/";
         tmp = pathconvert(TMPDIR, %t, %t);
         for k = 1:size(used, "*")
-            if strindex(used(k), tmp) == 1 & isfile(used(k)) then
+            if part(used(k), 1:length(tmp)) == tmp & isfile(used(k)) then
                 [d, n, e] = fileparts(used(k));
                 copyfile(used(k), out + n + e);
                 used(k) = n + e;
