@@ -37,9 +37,12 @@ bool translate(const fs::path& corpus, const std::string& name, const std::strin
   const fs::path coselica = corpus / ".." / "third_party" / "coselica" / "Coselica.mo";
   const fs::path macros = MO_SCILAB_MACROS;
   fs::copy_file(corpus / "flat" / (name + "_hier.mo"), dir / (title + "_im.mo"));
-  std::vector<fs::path> libs{coselica, macros / "Electrical" / "Electrical.mo", macros / "Hydraulics" / "Hydraulics.mo"};
+  std::vector<fs::path> libs{coselica, macros / "Electrical" / "Electrical.mo",
+                             macros / "Hydraulics" / "Hydraulics.mo"};
   std::ofstream list(dir / "translator_libs.txt");
-  list << coselica.string() << "\n" << (macros / "Electrical").string() << "\n" << (macros / "Hydraulics").string() << "\n";
+  list << coselica.string() << "\n"
+       << (macros / "Electrical").string() << "\n"
+       << (macros / "Hydraulics").string() << "\n";
   // A generic block's text (Scilab's demos): beside the translation, listed by name, as the script does.
   std::error_code ec;
   for (const auto& entry : fs::directory_iterator(corpus / "flat" / "aux" / name, ec)) {
@@ -65,7 +68,8 @@ Run run(const fs::path& dir, const fs::path& fake, double stop, const std::strin
                           " MO_SCILAB=" + quoted(std::string(MO_TEST_DATA_DIR) + "/xcos/translating-scilab.sh") +
                           " DISPLAY=:0 MO_FAKE_TRANSLATION=" + quoted(fake.string()) + " " + quoted(kMorun) + " " +
                           quoted(std::string(MO_TEST_DATA_DIR) + "/xcos/SeriesRLC.zcos") +
-                          " --open-loop --stop-time " + std::to_string(stop) + " -o " + quoted((dir / ("out_" + tag)).string()) +
+                          " --open-loop --stop-time " + std::to_string(stop) + " -o " +
+                          quoted((dir / ("out_" + tag)).string()) +
                           (init_fixed ? " --init-fixed" : "") + " >/dev/null 2>" + quoted(err.string());
   const int raw = std::system(cmd.c_str());
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(err)};
