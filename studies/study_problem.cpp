@@ -10,38 +10,6 @@ namespace ast = frontend::ast;
 namespace flat = frontend::flat;
 using frontend::DiagId;
 
-std::optional<double> constant_value(const flat::Model& m, const ast::Expr& e) {
-  switch (e.kind) {
-  case ast::ExprKind::Real:
-  case ast::ExprKind::Integer:
-  case ast::ExprKind::Boolean: return e.number;
-  case ast::ExprKind::Ref: {
-    if (e.var < 0) return std::nullopt;
-    const flat::Variable& v = m.variables[static_cast<std::size_t>(e.var)];
-    if (v.attr.free && constant_value(m, *v.attr.free).value_or(0.0) != 0.0) return std::nullopt;
-    return v.value;
-  }
-  case ast::ExprKind::Unary: {
-    auto x = constant_value(m, *e.args[0]);
-    if (!x) return std::nullopt;
-    return e.op == ast::Op::Neg ? -*x : *x;
-  }
-  case ast::ExprKind::Binary: {
-    auto a = constant_value(m, *e.args[0]), b = constant_value(m, *e.args[1]);
-    if (!a || !b) return std::nullopt;
-    switch (e.op) {
-    case ast::Op::Add: case ast::Op::ElemAdd: return *a + *b;
-    case ast::Op::Sub: case ast::Op::ElemSub: return *a - *b;
-    case ast::Op::Mul: case ast::Op::ElemMul: return *a * *b;
-    case ast::Op::Div: case ast::Op::ElemDiv: return *a / *b;
-    case ast::Op::Pow: case ast::Op::ElemPow: return std::pow(*a, *b);
-    default: return std::nullopt;
-    }
-  }
-  default: return std::nullopt;
-  }
-}
-
 namespace {
 
 /// The time of a point value `v(T)` on the study's horizon: T itself, or with

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "flat_constant.hpp"
 #include "mo/frontend/diagnostics.hpp"
 #include "mo/frontend/flat.hpp"
 
@@ -62,11 +63,5 @@ void add_bound_constraints(frontend::flat::Model& flat, ProblemOutputs& out);
 /// Removes the constraints add_bound_constraints made for variables that
 /// lowering kept as states named in `states`.
 void drop_state_bounds(ProblemOutputs& out, const std::vector<std::string>& states);
-
-/// The value of a flat expression built from literals, parameters with known
-/// values and + - * / ^; nullopt otherwise (also for a free parameter, whose
-/// value is only a first guess).
-std::optional<double> constant_value(const frontend::flat::Model& flat,
-                                     const frontend::ast::Expr& e);
 
 }  // namespace mo::tools

@@ -3,6 +3,7 @@
 
 #include <fstream>
 
+#include "flat_constant.hpp"
 #include "pipeline.hpp"
 
 namespace fs = std::filesystem;
@@ -10,57 +11,6 @@ namespace fs = std::filesystem;
 namespace mo::tools {
 
 namespace {
-
-using frontend::ast::Expr;
-using frontend::ast::ExprKind;
-using frontend::ast::Op;
-
-/// The value of `e` over literals and parameters whose values the flattening
-/// knows, or nullopt (anything else, e.g. a variable or a function call).
-std::optional<double> constant_value(const frontend::flat::Model& model, const Expr& e) {
-  switch (e.kind) {
-    case ExprKind::Real:
-    case ExprKind::Integer:
-    case ExprKind::Boolean:
-      return e.number;
-    case ExprKind::Ref:
-      if (e.var < 0 || static_cast<std::size_t>(e.var) >= model.variables.size()) return std::nullopt;
-      return model.variables[static_cast<std::size_t>(e.var)].value;
-    case ExprKind::Unary: {
-      const auto a = constant_value(model, *e.args[0]);
-      if (!a) return std::nullopt;
-      return e.op == Op::Neg ? -*a : e.op == Op::Not ? double(*a == 0.0) : *a;
-    }
-    case ExprKind::Binary: {
-      const auto a = constant_value(model, *e.args[0]), b = constant_value(model, *e.args[1]);
-      if (!a || !b) return std::nullopt;
-      switch (e.op) {
-        case Op::Add: case Op::ElemAdd: return *a + *b;
-        case Op::Sub: case Op::ElemSub: return *a - *b;
-        case Op::Mul: case Op::ElemMul: return *a * *b;
-        case Op::Lt: return double(*a < *b);
-        case Op::Le: return double(*a <= *b);
-        case Op::Gt: return double(*a > *b);
-        case Op::Ge: return double(*a >= *b);
-        case Op::Eq: return double(*a == *b);
-        case Op::Ne: return double(*a != *b);
-        case Op::And: return double(*a != 0.0 && *b != 0.0);
-        case Op::Or: return double(*a != 0.0 || *b != 0.0);
-        default: return std::nullopt;
-      }
-    }
-    case ExprKind::If: {  // cond1, then1, cond2, then2, ..., else
-      for (std::size_t i = 0; i + 1 < e.args.size(); i += 2) {
-        const auto c = constant_value(model, *e.args[i]);
-        if (!c) return std::nullopt;
-        if (*c != 0.0) return constant_value(model, *e.args[i + 1]);
-      }
-      return e.args.empty() ? std::nullopt : constant_value(model, *e.args.back());
-    }
-    default:
-      return std::nullopt;
-  }
-}
 
 std::vector<std::string> read_lines(const fs::path& file) {
   std::vector<std::string> lines;
