@@ -146,6 +146,14 @@ private:
     f_.fail(DiagId::Unsupported, r, "this algorithm section cannot be flattened: " + what);
   }
 
+  /// Reports value `e` of variable `v` beyond kMaxValueNodes or kMaxValueDepth.
+  void check_size(const Expr &e, std::int32_t v, SourceRange r) {
+    if (too_large_value(e))
+      unsupported(r, fmt::format("the value of '{}' grows beyond {} terms or {} levels (a loop that "
+                                 "accumulates an expression?)",
+                                 m_.variables[v].name, kMaxValueNodes, kMaxValueDepth));
+  }
+
   std::vector<std::int32_t> vars_of(const Expr &target) {
     Tensor t = f_.expr(target, scope_);
     std::vector<std::int32_t> out;
@@ -329,9 +337,11 @@ private:
         f_.fail(DiagId::TypeMismatch, st.range,
                 fmt::format("'{}' has {} element(s) but the assigned value {}", st.targets[k]->ref.str(),
                             vars.size(), r.elems.size()));
+      f_.fold_numbers(r);
       for (std::size_t i = 0; i < vars.size(); ++i) {
         if (!branch_vars_ && when_vars_.count(vars[i]))
           unsupported(st.range, "'" + m_.variables[vars[i]].name + "' is assigned inside and outside a when-statement");
+        check_size(*r.elems[i], vars[i], st.range);
         vals[vars[i]] = std::move(r.elems[i]);
       }
     }
@@ -438,6 +448,7 @@ private:
       e->args.push_back(c.clone());
       e->args.push_back(std::move(yes));
       e->args.push_back(std::move(no));
+      check_size(*e, v, r);
       vals[v] = std::move(e);
     }
   }

@@ -19,6 +19,7 @@
 #include "flattener.hpp"
 #include "mo/frontend/printer.hpp"
 
+#include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 #include <functional>
@@ -110,7 +111,63 @@ bool literals_only(const Expr &e) {
   return true;
 }
 
+/// True if `e`, numbers only, is an Integer: Integer literals joined by
+/// + - * and signs, integer(), and min, max, abs, sign, div, mod, rem of
+/// Integers (the branches of an if-expression likewise).
+bool integer_valued(const Expr &e) {
+  static const std::set<std::string> keep_integers{"min", "max", "abs", "sign", "div", "mod", "rem"};
+  std::vector<const Expr *> work{&e};
+  while (!work.empty()) {
+    const Expr *x = work.back();
+    work.pop_back();
+    switch (x->kind) {
+    case ExprKind::Integer:
+      break;
+    case ExprKind::Unary:
+    case ExprKind::Binary:
+      if (x->op != Op::Add && x->op != Op::Sub && x->op != Op::Mul && x->op != Op::Neg && x->op != Op::Plus)
+        return false;
+      for (const auto &a : x->args)
+        work.push_back(a.get());
+      break;
+    case ExprKind::If:
+      for (std::size_t i = 1; i < x->args.size(); i += 2)
+        work.push_back(x->args[i].get());
+      work.push_back(x->args.back().get());
+      break;
+    case ExprKind::Call:
+      if (x->var >= 0 || x->ref.parts.size() != 1)
+        return false;
+      if (x->ref.parts[0].name == "integer")
+        break;
+      if (!keep_integers.count(x->ref.parts[0].name))
+        return false;
+      for (const auto &a : x->args)
+        work.push_back(a.get());
+      break;
+    default:
+      return false;
+    }
+  }
+  return true;
+}
+
 } // namespace
+
+bool too_large_value(const Expr &e) {
+  std::vector<std::pair<const Expr *, std::size_t>> work{{&e, 1}};
+  std::size_t nodes = 0;
+  while (!work.empty()) {
+    auto [x, depth] = work.back();
+    work.pop_back();
+    if (++nodes > kMaxValueNodes || depth > kMaxValueDepth)
+      return true;
+    for (const auto &a : x->args)
+      if (a)
+        work.emplace_back(a.get(), depth + 1);
+  }
+  return false;
+}
 
 /// The elements and algorithms of a function, bases first.
 struct Signature {
@@ -389,13 +446,12 @@ bool has_jump(const std::vector<Statement> &body) {
   return false;
 }
 
-/// Executes one function's algorithm on symbolic values. With `numeric`, the
-/// inputs are numbers and every assigned value that is numbers only is folded
-/// to one, so loops that iterate to a tolerance stay small.
+/// Executes one function's algorithm on symbolic values; every assigned value
+/// that is numbers only is folded to one, so loops that iterate to a tolerance
+/// or count stay small.
 class Inliner {
 public:
-  Inliner(Flattener &f, ClassNode *fn, bool numeric, Decisions &decisions)
-      : f_(f), fn_(fn), numeric_(numeric), decisions_(decisions) {}
+  Inliner(Flattener &f, ClassNode *fn, Decisions &decisions) : f_(f), fn_(fn), decisions_(decisions) {}
 
   FunctionLocals values;
 
@@ -432,7 +488,6 @@ public:
 private:
   Flattener &f_;
   ClassNode *fn_;
-  bool numeric_;
   Decisions &decisions_;
   ClassNode *cls_ = nullptr;
   LoopEnv env_;
@@ -563,17 +618,6 @@ private:
     }
     ExprPtr other = ast::make_binary(complement, c.args[0]->clone(), c.args[1]->clone(), c.range);
     decisions_.known[print_expr(*other)] = !outcome;
-  }
-
-  /// In numeric mode, elements made of numbers only become one number.
-  void fold(Tensor &t) {
-    if (!numeric_)
-      return;
-    for (auto &e : t.elems)
-      if (e && !is_literal(*e) && literals_only(*e)) {
-        const double v = f_.eval(*e, e->range);
-        e = is_boolean_valued(*e) ? ast::make_bool(v != 0, e->range) : ast::make_real(v, e->range);
-      }
   }
 
   void exec(const std::vector<Statement> &body) {
@@ -746,7 +790,12 @@ private:
 
 private:
   void assign(const Expr &target, Tensor value) {
-    fold(value);
+    f_.fold_numbers(value);
+    for (const auto &e : value.elems)
+      if (e && too_large_value(*e))
+        unsupported(target.range, fmt::format("the value assigned to '{}' grows beyond {} terms or {} levels "
+                                              "(a loop that accumulates an expression?)",
+                                              target.ref.str(), kMaxValueNodes, kMaxValueDepth));
     if (target.kind != ExprKind::Ref || target.ref.global)
       unsupported(target.range, "only a local variable, an element or a field of one can be assigned");
     const std::string &name = target.ref.parts[0].name;
@@ -773,6 +822,18 @@ private:
 };
 
 } // namespace
+
+void Flattener::fold_numbers(Tensor &t) {
+  for (auto &e : t.elems)
+    if (e && !is_literal(*e) && literals_only(*e)) {
+      const double v = eval(*e, e->range);
+      if (!std::isfinite(v)) // 1 / 0 stays as written, for the run to report
+        continue;
+      e = is_boolean_valued(*e) ? ast::make_bool(v != 0, e->range)
+          : integer_valued(*e)  ? ast::make_integer(v, e->range)
+                                : ast::make_real(v, e->range);
+    }
+}
 
 ClassNode *Flattener::lookup_called_class(const Expr &call, const Scope &s) {
   if (call.kind != ExprKind::Call || call.ref.parts.empty())
@@ -959,15 +1020,15 @@ std::vector<const Expr *> match_arguments(Flattener &f, const Signature &sig, co
 
 namespace {
 
-/// Runs `fn`'s algorithm on `arguments` (the given inputs), symbolically or,
-/// with `numeric`, on numbers, along the outcomes `decisions` gives; throws
+/// Runs `fn`'s algorithm on `arguments` (the given inputs, expressions or
+/// numbers) along the outcomes `decisions` gives; throws
 /// NeedDecision at a varying condition past them, InlineUnsupported where it
 /// cannot go on.
 std::vector<Tensor> inline_path(Flattener &f, ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
                                 std::vector<Tensor> arguments, const Expr &call, std::size_t wanted,
-                                bool numeric, Decisions &decisions) {
+                                Decisions &decisions) {
   const std::string fn_name = fn->path();
-  Inliner in(f, fn, numeric, decisions);
+  Inliner in(f, fn, decisions);
   for (std::size_t i = 0; i < sig.inputs.size(); ++i)
     if (given[i])
       in.values[sig.inputs[i].first->name] = std::move(arguments[i]);
@@ -1056,8 +1117,7 @@ constexpr std::size_t kMaxPaths = 4096;
 /// if-expressions on the decisions' conditions. Throws InlineUnsupported
 /// beyond kMaxPaths runs or where the runs' outputs differ in size.
 std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &sig, const std::vector<bool> &given,
-                                const std::vector<Tensor> &arguments, const Expr &call, std::size_t wanted,
-                                bool numeric) {
+                                const std::vector<Tensor> &arguments, const Expr &call, std::size_t wanted) {
   struct Node {
     std::vector<bool> path;
     ExprPtr condition; ///< set: a decision, children then_child and then_child + 1
@@ -1075,7 +1135,7 @@ std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &si
     Decisions d;
     d.taken = nodes[n].path;
     try {
-      nodes[n].outs = inline_path(f, fn, sig, given, std::move(args), call, wanted, numeric, d);
+      nodes[n].outs = inline_path(f, fn, sig, given, std::move(args), call, wanted, d);
     } catch (NeedDecision &need) {
       nodes[n].condition = std::move(need.condition);
       nodes[n].then_child = nodes.size();
@@ -1304,7 +1364,7 @@ std::vector<Tensor> Flattener::inline_or_evaluate(ClassNode *fn, const Signature
     fail(DiagId::Unsupported, u.range, "cannot inline function '" + fn_name + "': " + u.what);
   };
   try {
-    return inline_call(*this, fn, sig, given, arguments, call, wanted, false);
+    return inline_call(*this, fn, sig, given, arguments, call, wanted);
   } catch (const InlineUnsupported &u) {
     // A loop to a tolerance, an error() on a bad input, ...: with parameter
     // arguments (a filter's coefficients) the call can still be evaluated now.
@@ -1318,7 +1378,7 @@ std::vector<Tensor> Flattener::inline_or_evaluate(ClassNode *fn, const Signature
           e = ast::make_real(eval(*e, call.range), call.range);
     std::vector<Tensor> out;
     try {
-      out = inline_call(*this, fn, sig, given, arguments, call, wanted, true);
+      out = inline_call(*this, fn, sig, given, arguments, call, wanted);
     } catch (const InlineUnsupported &again) {
       report(again);
     }

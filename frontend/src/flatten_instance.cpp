@@ -227,7 +227,7 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
     if (auto it = inst.member_index.find(c->name); it != inst.member_index.end()) {
       const ast::Component *prev = it->second->decl;
       const bool inherited = prev && std::none_of(def.components.begin(), def.components.end(),
-                                                  [&](const ast::Component &own) { return &own == prev; });
+                                                  [&](const ast::Component &d) { return &d == prev; });
       if (inherited && same_declaration(*prev, *c)) {
         // The MSL redeclares a base's element with other attributes (MultiPhase's
         // MutualInductor: `parameter Integer m = 3` over TwoPlug's `m(min = 1) = 3`).

@@ -206,6 +206,17 @@ struct Scope {
   const FunctionLocals *locals = nullptr; ///< inside a function body being inlined
 };
 
+/// Bounds on one value that an algorithm computes symbolically (a function's
+/// local or output, a model algorithm's variable): a loop that accumulates an
+/// expression (`y := y + t` a million times) stops there instead of costing
+/// the square of its length, and no value nests deeper than the parser lets
+/// source text nest.
+constexpr std::size_t kMaxValueNodes = 20'000;
+constexpr std::size_t kMaxValueDepth = 1'000;
+/// Whether `e` has more than kMaxValueNodes nodes or nests deeper than
+/// kMaxValueDepth; counts no further than either bound.
+bool too_large_value(const ast::Expr &e);
+
 /// Thrown (and caught at the statement level) once a diagnostic has been
 /// reported for the current equation or binding.
 struct Reported {};
@@ -388,6 +399,10 @@ public:
   std::vector<Tensor> call_function(ClassNode *fn, const ast::Expr &call, const Scope &s,
                                     std::size_t wanted = 1,
                                     std::vector<std::pair<std::string, Tensor>> preset = {});
+  /// Elements of `t` made of numbers only become one finite number (Boolean
+  /// by the top operation, Integer for Integer literals under + - *, else
+  /// Real): an algorithm's counter (`i := i + 1`) stays a literal.
+  void fold_numbers(Tensor &t);
   /// call_function on flattened arguments: inlined, or evaluated now where
   /// the algorithm cannot be inlined and the arguments are parameters.
   std::vector<Tensor> inline_or_evaluate(ClassNode *fn, const Signature &sig, const std::vector<bool> &given,

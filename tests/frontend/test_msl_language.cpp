@@ -752,7 +752,7 @@ TEST_CASE("tuple equations take the outputs of a function, size() of an unassign
   const std::string s = flat(src);
   CHECK(contains(s, "`a[3]` = time / 3;"));
   CHECK(contains(s, "b = 2 * time;"));
-  CHECK(contains(s, "`p[2]` = 6 / 2;"));
+  CHECK(contains(s, "`p[2]` = 3.;"));
   CHECK(contains(s, "q = 6;"));
   Compiled bad = compile_text(R"(
     model Bad
@@ -827,10 +827,10 @@ TEST_CASE("while, return and break on varying conditions become if-expressions o
   // known on that way and not asked again; backward to i = 1 otherwise, where
   // the backward loop's `time < 1` is known from the `if`.
   CHECK(contains(s, "z = if time >= 1 then 1 + (4 - 1) * (time - 1) / (2 - 1) else 0 + (1 - 0) * (time - 0) / (1 - 0);"));
-  CHECK(contains(s, "j = if time >= 1 then min(max(2, 1), 3 - 1) + 1 - 1 else min(max(2, 1), 3 - 1) - 1;"));
+  CHECK(contains(s, "j = if time >= 1 then 2 else 1;"));
   // Where time > 1 is false, time > 2 is too (the bounds of `time` on that way).
   CHECK(contains(s, "k = if time > 1 then 1 else if time > 0.5 then 3 else 0;"));
-  CHECK(contains(s, "w = if time < 1 then 0 else if time < 2 then 0 + 1 else if time < 3 then 0 + 1 + 2 else 0 + 1 + 2 + 3;"));
+  CHECK(contains(s, "w = if time < 1 then 0 else if time < 2 then 1 else if time < 3 then 3 else 6;"));
 }
 
 TEST_CASE("a function's array indexed by a varying Integer selects by an if-expression", "[msl][functions]") {
@@ -928,7 +928,7 @@ TEST_CASE("a built-in of a size parameter decides a function's branch now", "[ms
     end M;)");
   CHECK(contains(s, "parameter Real `y[3]` = 3;"));
   CHECK(contains(s, "parameter Real `z[2]` = 2;"));
-  CHECK(contains(s, "parameter Real `z[4]` = 2 + 10;"));
+  CHECK(contains(s, "parameter Real `z[4]` = 12;"));
 }
 
 TEST_CASE("algorithm sections of models that assign each variable once are equations", "[msl][algorithm]") {
@@ -996,7 +996,7 @@ TEST_CASE("algorithm sections: for-loops unroll, accumulators and array elements
   const std::string w = algorithm_flat("  Real y;\n  Integer k;",
                                        "  k := 1;\n  while k < 10 loop\n    k := 2 * k;\n    if k > 5 then break; end if;\n"
                                        "  end while;\n  y := k * time;");
-  CHECK(contains(w, "  y = 2 * (2 * (2 * 1)) * time;\n"));
+  CHECK(contains(w, "  y = 8 * time;\n"));
 }
 
 TEST_CASE("algorithm sections: several outputs and default arguments of functions", "[msl][algorithm]") {

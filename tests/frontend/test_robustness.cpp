@@ -83,6 +83,91 @@ TEST_CASE("a 900-term expression flattens", "[robust]") {
   CHECK(c.ok());
 }
 
+TEST_CASE("a function's while-loop that never advances on a varying condition stops with a diagnostic",
+          "[robust][functions]") {
+  // Found by fuzz_flatten: `j := j + 0` grew j by one node per iteration, so
+  // reaching the loop limit took minutes. The local now stays a literal.
+  Compiled c = compile_text(R"(
+    function first
+      input Real table[:];
+      input Real t0;
+      output Integer index;
+    protected
+      Integer j = 1;
+    algorithm
+      while j <= size(table, 1) and table[j] <= t0 loop
+        j := j + 0;
+      end while;
+      index := j;
+    end first;
+    model Stuck
+      Integer i;
+    initial algorithm
+      i := first({0.5, 1}, time);
+    equation
+      when time > 1 then i = pre(i) + 1; end when;
+    end Stuck;)");
+  CHECK_FALSE(c.ok());
+  CHECK(c.diagnostics.find("the while-loop runs more than 100000 times") != std::string::npos);
+}
+
+TEST_CASE("a loop that accumulates an expression stops with a diagnostic at a bounded size", "[robust][functions]") {
+  const std::string grow = R"(
+    function total
+      input Real t;
+      output Real y = 0;
+    algorithm
+      for k in 1:100000 loop
+        y := y + t;
+      end for;
+    end total;
+    model InFunction
+      Real x = total(time);
+    end InFunction;
+    model InAlgorithm
+      Real y;
+    algorithm
+      y := 0;
+      for k in 1:100000 loop
+        y := y + time;
+      end for;
+    end InAlgorithm;
+    model Branching
+      Real y;
+    algorithm
+      y := 1;
+      for k in 1:40 loop
+        if time > k then y := y + 1; else y := 2 * y; end if;
+      end for;
+    end Branching;)";
+  Compiled f = compile({{"grow.mo", grow}}, "InFunction");
+  CHECK_FALSE(f.ok());
+  CHECK(f.diagnostics.find("grow.mo:7:9: error: cannot inline function 'total': the value assigned to 'y' grows "
+                           "beyond 20000 terms or 1000 levels") != std::string::npos);
+  for (const char *model : {"InAlgorithm", "Branching"}) {
+    Compiled a = compile({{"grow.mo", grow}}, model);
+    INFO(model << ": " << a.diagnostics);
+    CHECK_FALSE(a.ok());
+    CHECK(a.diagnostics.find("this algorithm section cannot be flattened: the value of 'y' grows beyond 20000 "
+                             "terms or 1000 levels") != std::string::npos);
+  }
+  // Numbers fold as they are assigned: a long counting loop stays one literal.
+  Compiled count = compile_text(R"(
+    model Count
+      Real y;
+      Integer k;
+    algorithm
+      k := 0;
+      while k < 50000 loop
+        k := k + 1;
+      end while;
+      y := k * time;
+    end Count;)");
+  INFO(count.diagnostics);
+  REQUIRE(count.ok());
+  CHECK(count.model->print().find("  y = 50000 * time;\n") != std::string::npos);
+}
+
 TEST_CASE("Coselica planar mechanics from Xcos flatten without crashing", "[robust][xcos]") {
   const std::string shared = shared_dir();
   const std::string electrical = std::string(MO_SCILAB_MACROS) + "/Electrical/Electrical.mo";
@@ -138,7 +223,7 @@ TEST_CASE("every model and block of the Coselica library flattens", "[robust][xc
   DiagnosticEngine parse_diags(sm);
   Library lib;
   std::vector<std::string> classes;
-  for (const std::string path : {shared + "/third_party/coselica/Coselica.mo", macros + "/Electrical/Electrical.mo",
+  for (const std::string &path : {shared + "/third_party/coselica/Coselica.mo", macros + "/Electrical/Electrical.mo",
                                  macros + "/Hydraulics/Hydraulics.mo"}) {
     auto sd = parse(sm.add(path, read_file(path)), sm, parse_diags);
     REQUIRE(sd);
