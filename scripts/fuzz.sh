@@ -2,8 +2,8 @@
 # Runs the front end's fuzz targets, one per stage (parse, flatten, lower,
 # cpp: fuzz/stage_fuzzer.cpp), for a bounded total time split evenly between
 # them: scripts/fuzz.sh [SECONDS] [STAGE...]. Seeds: every .mo/.mop/.opt file
-# of the repository. Crashes are written to build-fuzz/crashes/STAGE/ and make
-# the script fail.
+# of the repository. Crashes are written to build-fuzz/crashes/STAGE/, printed
+# in base64, and make the script fail.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
 seconds=${1:-60}
@@ -51,6 +51,13 @@ for stage in "${stages[@]}"; do
     >"$build/fuzz_$stage.log" 2>&1; then
     status=1
     grep -E "ERROR|SUMMARY|Test unit written" "$build/fuzz_$stage.log" | head -20
+    # CI keeps only the log: print each failing input (at most max_len bytes)
+    # so that it can be rebuilt with `base64 -d` and run again.
+    for unit in "$crashes"/*; do
+      [ -f "$unit" ] || continue
+      echo "-- $(basename "$unit") (base64):"
+      base64 -w 120 "$unit"
+    done
   fi
   tail -3 "$build/fuzz_$stage.log"
 done
