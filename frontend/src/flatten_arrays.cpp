@@ -258,6 +258,7 @@ bool Flattener::array_function(const Expr &e, const Scope &s, Tensor &out) {
     if (v.dims.size() != 1)
       fail(DiagId::TypeMismatch, r, "diagonal() needs a vector, got size " + dims_text(v.dims));
     const int n = v.dims[0];
+    element_count({n, n}, r, "diagonal()");
     out.dims = {n, n};
     for (int i = 0; i < n; ++i)
       for (int j = 0; j < n; ++j)
@@ -269,6 +270,7 @@ bool Flattener::array_function(const Expr &e, const Scope &s, Tensor &out) {
     Tensor v = arg(0), w = arg(1);
     if (v.dims.size() != 1 || w.dims.size() != 1)
       fail(DiagId::TypeMismatch, r, "outerProduct() needs two vectors");
+    element_count({v.dims[0], w.dims[0]}, r, "outerProduct()");
     out.dims = {v.dims[0], w.dims[0]};
     for (int i = 0; i < v.dims[0]; ++i)
       for (int j = 0; j < w.dims[0]; ++j)

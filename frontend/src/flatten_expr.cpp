@@ -722,16 +722,19 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
       if (e.args.size() <= first)
         fail(DiagId::WrongArgumentCount, e.range, name + "() needs at least one size");
       Tensor t;
-      std::size_t total = 1;
+      std::vector<long long> sizes;
       for (std::size_t i = first; i < e.args.size(); ++i) {
         long long n = eval_int(*e.args[i], s);
         if (n < 0 || n > 1'000'000)
           fail(DiagId::BadSubscript, e.args[i]->range, "array size out of range");
         t.dims.push_back(static_cast<int>(n));
-        total *= static_cast<std::size_t>(n);
+        sizes.push_back(n);
       }
+      const std::size_t total = element_count(sizes, e.range, name + "()");
       if (name == "fill") { // fill(A, n1, ...): dims n1, ..., then A's own
         Tensor a = expr(*e.args[0], s);
+        sizes.push_back(static_cast<long long>(a.elems.size()));
+        element_count(sizes, e.range, "fill()");
         if (a.record)
           fail(DiagId::Unsupported, e.args[0]->range, "fill() of a record is not supported");
         t.dims.insert(t.dims.end(), a.dims.begin(), a.dims.end());

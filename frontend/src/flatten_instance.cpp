@@ -3,6 +3,7 @@
 #include "mo/frontend/printer.hpp"
 
 #include <algorithm>
+#include <fmt/format.h>
 #include <optional>
 
 namespace mo::frontend::detail {
@@ -12,6 +13,19 @@ using ast::Variability;
 void Flattener::fail(DiagId id, SourceRange r, const std::string &msg) {
   diags_.report(id, r, msg);
   throw Reported{};
+}
+
+std::size_t Flattener::element_count(const std::vector<long long> &dims, SourceRange r, const std::string &what) {
+  std::size_t total = 1;
+  for (long long d : dims) {
+    if (d <= 0)
+      return 0;
+    if (static_cast<std::size_t>(d) > opts_.max_elements / total)
+      fail(DiagId::Unsupported, r,
+           fmt::format("{} has more than {} elements, mocompile's limit", what, opts_.max_elements));
+    total *= static_cast<std::size_t>(d);
+  }
+  return total;
 }
 
 Modifier Flattener::make_modifier(const ast::Modification &m, Instance *scope, ClassNode *lexical) {
@@ -448,9 +462,8 @@ void Flattener::instantiate_structured(Instance &inst, ClassNode *cls, const Mod
 
 void Flattener::make_elements(Instance &inst, const ast::Component &comp, const ResolvedType &rt,
                               const Modifier &mod, unsigned depth) {
-  std::size_t total = 1;
-  for (int d : inst.dims)
-    total *= static_cast<std::size_t>(d);
+  const std::size_t total = element_count(std::vector<long long>(inst.dims.begin(), inst.dims.end()), comp.range,
+                                          "'" + inst.flat + "'");
   std::vector<int> idx(inst.dims.size(), 1);
   for (std::size_t k = 0; k < total; ++k) {
     auto el = std::make_unique<Instance>();
@@ -490,6 +503,9 @@ bool Flattener::written_by_user(const Instance &inst, const Modifier &mod) const
 }
 
 void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifier &mod) {
+  if (++scalars_made_ > opts_.max_elements)
+    fail(DiagId::Unsupported, inst.decl ? inst.decl->range : SourceRange{},
+         fmt::format("the model has more than {} scalar variables, mocompile's limit", opts_.max_elements));
   flat::Variable v;
   v.name = inst.flat;
   v.type = rt.builtin;

@@ -279,6 +279,10 @@ public:
   void instantiate_component(Instance &parent, const ast::Component &comp, ClassNode *cls,
                              Modifier mod, unsigned depth);
   void make_scalar(Instance &inst, const ResolvedType &rt, const Modifier &mod);
+  /// The number of elements of an array of size `dims`; reports `what` at
+  /// `r` beyond opts_.max_elements (counted without overflow).
+  std::size_t element_count(const std::vector<long long> &dims, SourceRange r, const std::string &what);
+  std::size_t scalars_made_ = 0; ///< scalar variables so far (make_scalar), at most opts_.max_elements
   bool written_by_user(const Instance &inst, const Modifier &mod) const;
   /// Instantiates a structured component (or array element) of class `cls`
   /// and checks that its modifiers name elements of it.

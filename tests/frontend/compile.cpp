@@ -10,6 +10,12 @@ namespace mo::test {
 using namespace frontend;
 
 Compiled compile(const std::vector<Source> &sources, std::string class_name, bool check_balance) {
+  FlattenOptions fo;
+  fo.check_balance = check_balance;
+  return compile(sources, std::move(class_name), fo);
+}
+
+Compiled compile(const std::vector<Source> &sources, std::string class_name, const FlattenOptions &fo) {
   SourceManager sm;
   DiagnosticEngine diags(sm);
   Library lib;
@@ -26,11 +32,8 @@ Compiled compile(const std::vector<Source> &sources, std::string class_name, boo
       class_name = sd->classes.back()->name;
     lib.add(std::move(sd));
   }
-  if (parsed) {
-    FlattenOptions fo;
-    fo.check_balance = check_balance;
+  if (parsed)
     out.model = flatten(lib, class_name, diags, fo);
-  }
   std::ostringstream os;
   diags.print(os);
   out.diagnostics = os.str();

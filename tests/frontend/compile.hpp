@@ -25,6 +25,8 @@ struct Source {
 /// `class_name` (default: the last class of the last source).
 Compiled compile(const std::vector<Source> &sources, std::string class_name = "",
                  bool check_balance = true);
+Compiled compile(const std::vector<Source> &sources, std::string class_name,
+                 const frontend::FlattenOptions &options);
 Compiled compile_text(const std::string &text, std::string class_name = "");
 
 /// One row of tests/frontend/data/scilab/MANIFEST: a hierarchical model

@@ -168,6 +168,36 @@ TEST_CASE("a loop that accumulates an expression stops with a diagnostic at a bo
   CHECK(count.model->print().find("  y = 50000 * time;\n") != std::string::npos);
 }
 
+TEST_CASE("an array or a model beyond the element limit is a diagnostic, before it is built", "[robust]") {
+  // Each of these took minutes and tens of GB before it was refused.
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"  Real x[100000, 100000];\n", "test.mo:2:8: error: 'x' has more than 1000000 elements"},
+      {"  parameter Real a[:] = fill(1, 1000000, 1000000);\n", "error: fill() has more than 1000000 elements"},
+      {"  parameter Real a[:, :] = fill({1, 2}, 1000, 1000);\n", "error: fill() has more than 1000000 elements"},
+      {"  parameter Real a = sum(ones(100000, 100000));\n", "error: ones() has more than 1000000 elements"},
+      {"  parameter Real a[:, :] = diagonal(1:2000);\n", "error: diagonal() has more than 1000000 elements"},
+      {"  parameter Real a[:, :] = outerProduct(1:2000, 1:1000);\n",
+       "error: outerProduct() has more than 1000000 elements"},
+  };
+  for (const auto &[decl, message] : cases) {
+    Compiled c = compile_text("model Big\n" + decl + "  Real y;\nequation\n  der(y) = -y;\nend Big;\n");
+    INFO(decl << c.diagnostics);
+    CHECK_FALSE(c.ok());
+    CHECK(c.diagnostics.find(message) != std::string::npos);
+  }
+  // The limit counts the model's scalar variables too; a smaller one shows it.
+  mo::frontend::FlattenOptions small;
+  small.max_elements = 1000;
+  const std::string two = "model Two\n  Real a[600], b[600];\nequation\n  der(a) = -a;\n  der(b) = -b;\nend Two;\n";
+  Compiled over = compile({{"two.mo", two}}, "Two", small);
+  CHECK_FALSE(over.ok());
+  CHECK(over.diagnostics.find("two.mo:2:16: error: the model has more than 1000 scalar variables") != std::string::npos);
+  small.max_elements = 1200;
+  Compiled fits = compile({{"two.mo", two}}, "Two", small);
+  INFO(fits.diagnostics);
+  CHECK(fits.ok());
+}
+
 TEST_CASE("Coselica planar mechanics from Xcos flatten without crashing", "[robust][xcos]") {
   const std::string shared = shared_dir();
   const std::string electrical = std::string(MO_SCILAB_MACROS) + "/Electrical/Electrical.mo";
