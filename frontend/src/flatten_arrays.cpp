@@ -172,26 +172,20 @@ Tensor Flattener::matrix_constructor(const Expr &e, const Scope &s) {
   return cat_tensors(*this, 1, std::move(rows), e.range);
 }
 
-/// sum/product/min/max of the elements of `a`; an empty sum is 0, an empty
-/// product 1, min/max of nothing an error.
-static Tensor reduce(Flattener &f, const std::string &name, Tensor a, SourceRange r) {
+Tensor reduce_elements(Flattener &f, const std::string &name, Tensor a, SourceRange r) {
   if (a.elems.empty()) {
     if (name == "min" || name == "max")
       f.fail(DiagId::TypeMismatch, r, name + "() of an empty array");
     return Tensor::scalar(ast::make_real(name == "sum" ? 0 : 1, r)); // as sum() of {} does
   }
-  ExprPtr acc = std::move(a.elems[0]);
-  for (std::size_t i = 1; i < a.elems.size(); ++i) {
-    if (name == "sum" || name == "product") {
-      acc = ast::make_binary(name == "sum" ? Op::Add : Op::Mul, std::move(acc), std::move(a.elems[i]), r);
-      continue;
-    }
+  return Tensor::scalar(join_terms(std::move(a.elems), [&](ExprPtr x, ExprPtr y) {
+    if (name == "sum" || name == "product")
+      return ast::make_binary(name == "sum" ? Op::Add : Op::Mul, std::move(x), std::move(y), r);
     std::vector<ExprPtr> v;
-    v.push_back(std::move(acc));
-    v.push_back(std::move(a.elems[i]));
-    acc = ast::make_call(name, std::move(v), r);
-  }
-  return Tensor::scalar(std::move(acc));
+    v.push_back(std::move(x));
+    v.push_back(std::move(y));
+    return ast::make_call(name, std::move(v), r);
+  }));
 }
 
 bool Flattener::array_function(const Expr &e, const Scope &s, Tensor &out) {
@@ -219,7 +213,7 @@ bool Flattener::array_function(const Expr &e, const Scope &s, Tensor &out) {
     if (name != "sum" && name != "product" && name != "min" && name != "max")
       fail(DiagId::Unsupported, r, "'" + name + "(... for ...)' is not a supported reduction");
     want_args(1, 1);
-    out = reduce(*this, name, comprehension(*e.args[0], e.iterators, s, r), r);
+    out = reduce_elements(*this, name, comprehension(*e.args[0], e.iterators, s, r), r);
     return true;
   }
   if (name == "cat") {

@@ -192,15 +192,17 @@ void Flattener::finish_connections() {
       continue;
     }
     if (model_->variables[set[0] / 2].is_flow) {
-      ExprPtr sum;
+      std::vector<ExprPtr> terms;
       for (std::int32_t e : set) {
         ExprPtr term = ref(e, r);
         if (e % 2 == 1) term = ast::make_unary(ast::Op::Neg, std::move(term), r);
-        sum = sum ? ast::make_binary(ast::Op::Add, std::move(sum), std::move(term), r) : std::move(term);
+        terms.push_back(std::move(term));
       }
       ast::Equation eq;
       eq.range = r;
-      eq.lhs = std::move(sum);
+      eq.lhs = join_terms(std::move(terms), [&](ExprPtr x, ExprPtr y) {
+        return ast::make_binary(ast::Op::Add, std::move(x), std::move(y), r);
+      });
       eq.rhs = ast::make_real(0, r);
       model_->equations.push_back(std::move(eq));
     } else {

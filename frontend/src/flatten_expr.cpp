@@ -383,12 +383,13 @@ static Tensor binary(Flattener &f, Op op, Tensor a, Tensor b, SourceRange r) {
   }
   if (op == Op::Mul) {
     auto dot = [&](auto get_a, auto get_b, int n) {
-      ExprPtr sum;
-      for (int k = 0; k < n; ++k) {
-        ExprPtr term = ast::make_binary(Op::Mul, get_a(k), get_b(k), r);
-        sum = sum ? ast::make_binary(Op::Add, std::move(sum), std::move(term), r) : std::move(term);
-      }
-      return sum ? std::move(sum) : ast::make_real(0, r);
+      if (n == 0)
+        return ast::make_real(0, r);
+      std::vector<ExprPtr> terms;
+      for (int k = 0; k < n; ++k)
+        terms.push_back(ast::make_binary(Op::Mul, get_a(k), get_b(k), r));
+      return join_terms(std::move(terms),
+                        [&](ExprPtr x, ExprPtr y) { return ast::make_binary(Op::Add, std::move(x), std::move(y), r); });
     };
     if (a.dims.size() == 1 && b.dims.size() == 1 && a.dims == b.dims)
       return Tensor::scalar(dot([&](int k) { return a.elems[k]->clone(); },
@@ -671,26 +672,11 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
         v.push_back(scalar_expr(*e.args[1], s));
         return Tensor::scalar(ast::make_call(name, std::move(v), e.range));
       }
-      Tensor a = arg(0);
-      if (a.elems.empty())
-        fail(DiagId::TypeMismatch, e.range, name + "() of an empty array");
-      ExprPtr acc = std::move(a.elems[0]);
-      for (std::size_t i = 1; i < a.elems.size(); ++i) {
-        std::vector<ExprPtr> v;
-        v.push_back(std::move(acc));
-        v.push_back(std::move(a.elems[i]));
-        acc = ast::make_call(name, std::move(v), e.range);
-      }
-      return Tensor::scalar(std::move(acc));
+      return reduce_elements(*this, name, arg(0), e.range);
     }
     if (name == "sum" || name == "product") {
       want_args(1, 1);
-      Tensor a = arg(0);
-      ExprPtr acc;
-      for (auto &x : a.elems)
-        acc = acc ? ast::make_binary(name == "sum" ? Op::Add : Op::Mul, std::move(acc), std::move(x), e.range)
-                  : std::move(x);
-      return Tensor::scalar(acc ? std::move(acc) : literal(name == "sum" ? 0 : 1, e.range));
+      return reduce_elements(*this, name, arg(0), e.range);
     }
     if (name == "cardinality")
       return cardinality(e, s);
@@ -1063,9 +1049,59 @@ ExprPtr Flattener::binding_expr(const Modifier &m) {
   return std::move(t.elems[0]);
 }
 
+namespace {
+ast::ExprPtr join_range(std::vector<ast::ExprPtr> &terms, std::size_t begin, std::size_t end,
+                        const std::function<ast::ExprPtr(ast::ExprPtr, ast::ExprPtr)> &join) {
+  constexpr std::size_t kRun = 256;
+  if (end - begin > kRun) {
+    const std::size_t mid = begin + (end - begin) / 2;
+    ast::ExprPtr left = join_range(terms, begin, mid, join);
+    return join(std::move(left), join_range(terms, mid, end, join));
+  }
+  ast::ExprPtr acc = std::move(terms[begin]);
+  for (std::size_t i = begin + 1; i < end; ++i)
+    acc = join(std::move(acc), std::move(terms[i]));
+  return acc;
+}
+} // namespace
+
+ast::ExprPtr join_terms(std::vector<ast::ExprPtr> terms,
+                        const std::function<ast::ExprPtr(ast::ExprPtr, ast::ExprPtr)> &join) {
+  return join_range(terms, 0, terms.size(), join);
+}
+
 Tensor Flattener::binding_tensor(const Modifier &m) {
   Scope s{m.scope, m.lexical, nullptr};
-  Tensor t = expr(*m.binding, s);
+  Tensor t;
+  const auto key = std::make_tuple(m.binding, m.scope, m.lexical);
+  auto cached = array_bindings_.find(key);
+  if (cached == array_bindings_.end() && !m.index.empty()) {
+    Tensor whole = expr(*m.binding, s);
+    if (!whole.dims.empty())
+      cached = array_bindings_.emplace(key, std::move(whole)).first;
+    else
+      t = std::move(whole);
+  } else if (cached == array_bindings_.end()) {
+    t = expr(*m.binding, s);
+  }
+  if (cached != array_bindings_.end()) { // a copy of the element m.index selects
+    const Tensor &whole = cached->second;
+    std::size_t offset = 0, count = whole.elems.size(), used = 0;
+    for (int i : m.index) {
+      if (used == whole.dims.size())
+        break;
+      const int n = whole.dims[used++];
+      if (i < 1 || i > n)
+        fail(DiagId::BadSubscript, m.binding->range,
+             fmt::format("the binding has {} elements; element {} is needed", n, i));
+      count /= static_cast<std::size_t>(n);
+      offset += static_cast<std::size_t>(i - 1) * count;
+    }
+    t.dims.assign(whole.dims.begin() + static_cast<std::ptrdiff_t>(used), whole.dims.end());
+    t.record = whole.record;
+    for (std::size_t k = 0; k < count; ++k)
+      t.elems.push_back(whole.elems[offset + k] ? whole.elems[offset + k]->clone() : nullptr);
+  }
   const auto take = [&](const std::vector<int> &index) {
     for (int i : index) {
       if (t.dims.empty())
@@ -1083,7 +1119,8 @@ Tensor Flattener::binding_tensor(const Modifier &m) {
       t = std::move(sub);
     }
   };
-  take(m.index);
+  if (cached == array_bindings_.end())
+    take(m.index);
   for (const auto &[field, index] : m.fields) {
     t = record_field(t, field, m.binding->range);
     take(index);

@@ -12,6 +12,7 @@
 
 #include <functional>
 #include <map>
+#include <tuple>
 #include <optional>
 #include <memory>
 #include <set>
@@ -206,6 +207,20 @@ struct Scope {
   const FunctionLocals *locals = nullptr; ///< inside a function body being inlined
 };
 
+/// `terms` joined by `join` (a + b, a * b, min(a, b)): left to right as
+/// written up to 256 terms, beyond as a balanced tree of such runs, so that a
+/// long sum (`a * b` of 40000-element vectors, a large connection set) nests
+/// log-deep instead of overflowing the stack of every recursive pass after
+/// it. `terms` must not be empty.
+ast::ExprPtr join_terms(std::vector<ast::ExprPtr> terms,
+                        const std::function<ast::ExprPtr(ast::ExprPtr, ast::ExprPtr)> &join);
+
+class Flattener;
+/// sum/product/min/max (`name`) of the elements of `a`, joined by
+/// join_terms; an empty sum is 0, an empty product 1, min/max of nothing an
+/// error (flatten_arrays.cpp).
+Tensor reduce_elements(Flattener &f, const std::string &name, Tensor a, SourceRange r);
+
 /// Bounds on one value that an algorithm computes symbolically (a function's
 /// local or output, a model algorithm's variable): a loop that accumulates an
 /// expression (`y := y + t` a million times) stops there instead of costing
@@ -346,6 +361,10 @@ public:
   /// The value `m` binds: its binding flattened in its scope, then the
   /// element (m.index) and record fields (m.fields) it selects.
   Tensor binding_tensor(const Modifier &m);
+  /// Array bindings flattened once for all their elements, by binding and
+  /// scope: `parameter Real table[n, 2] = [...]` took each of its 2n
+  /// elements from a new flattening of the whole table (quadratic).
+  std::map<std::tuple<const ast::Expr *, Instance *, ClassNode *>, Tensor> array_bindings_;
 
   struct PendingBinding {
     std::int32_t var;

@@ -198,6 +198,35 @@ TEST_CASE("an array or a model beyond the element limit is a diagnostic, before 
   CHECK(fits.ok());
 }
 
+TEST_CASE("a 40 000-element array binding and its reductions flatten, nesting log-deep", "[robust]") {
+  // Each element of `a` flattened the whole of `1:n` again (minutes), and
+  // `a * a` nested 40 000 levels deep, which overflowed the evaluator's stack.
+  Compiled c = compile_text(R"(
+    model Long
+      parameter Integer n = 40000;
+      parameter Real a[n] = 1:n;
+      parameter Real dot = a * a;
+      parameter Real total = sum(a);
+      parameter Real largest = max(a);
+      Real x(start = 1);
+    equation
+      der(x) = -x;
+    end Long;)");
+  INFO(c.diagnostics.substr(0, 2000));
+  REQUIRE(c.ok());
+  const auto value = [&](const std::string &name) {
+    const auto i = c.model->find(name);
+    REQUIRE(i >= 0);
+    REQUIRE(c.model->variables[i].value);
+    return *c.model->variables[i].value;
+  };
+  const double n = 40000;
+  CHECK(value("a[40000]") == n);
+  CHECK(value("dot") == n * (n + 1) * (2 * n + 1) / 6);
+  CHECK(value("total") == n * (n + 1) / 2);
+  CHECK(value("largest") == n);
+}
+
 TEST_CASE("Coselica planar mechanics from Xcos flatten without crashing", "[robust][xcos]") {
   const std::string shared = shared_dir();
   const std::string electrical = std::string(MO_SCILAB_MACROS) + "/Electrical/Electrical.mo";
