@@ -363,6 +363,9 @@ void Flattener::for_each_iteration(const ast::Equation &eq, const Scope &s,
     Scope inner = s;
     inner.env = &env;
     if (k == eq.indices.size()) {
+      if (++loop_iterations_ > opts_.max_elements)
+        fail(DiagId::Unsupported, eq.range,
+             fmt::format("the model's for-equations run more than {} times, mocompile's limit", opts_.max_elements));
       body(inner);
       return;
     }

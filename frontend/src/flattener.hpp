@@ -298,6 +298,7 @@ public:
   /// `r` beyond opts_.max_elements (counted without overflow).
   std::size_t element_count(const std::vector<long long> &dims, SourceRange r, const std::string &what);
   std::size_t scalars_made_ = 0; ///< scalar variables so far (make_scalar), at most opts_.max_elements
+  std::size_t loop_iterations_ = 0; ///< for-equation bodies run so far, at most opts_.max_elements
   bool written_by_user(const Instance &inst, const Modifier &mod) const;
   /// Instantiates a structured component (or array element) of class `cls`
   /// and checks that its modifiers name elements of it.

@@ -192,6 +192,13 @@ TEST_CASE("an array or a model beyond the element limit is a diagnostic, before 
   Compiled over = compile({{"two.mo", two}}, "Two", small);
   CHECK_FALSE(over.ok());
   CHECK(over.diagnostics.find("two.mo:2:16: error: the model has more than 1000 scalar variables") != std::string::npos);
+  // And the times for-equations run (`for i in 1:9000000` took minutes and 7.5 GB).
+  Compiled loops = compile({{"loops.mo", "model Loops\n  Real x;\nequation\n  for i in 1:2000 loop\n    x = i;\n"
+                                         "  end for;\nend Loops;\n"}},
+                           "Loops", small);
+  CHECK_FALSE(loops.ok());
+  CHECK(loops.diagnostics.find("loops.mo:4:3: error: the model's for-equations run more than 1000 times") !=
+        std::string::npos);
   small.max_elements = 1200;
   Compiled fits = compile({{"two.mo", two}}, "Two", small);
   INFO(fits.diagnostics);
