@@ -1070,38 +1070,41 @@ ast::ExprPtr join_terms(std::vector<ast::ExprPtr> terms,
   return join_range(terms, 0, terms.size(), join);
 }
 
+namespace {
+/// A copy of the element `index` selects of array `whole` (the whole array's
+/// value of a binding); an index longer than its dimensions stops at them.
+Tensor element_copy(Flattener &f, const Tensor &whole, const std::vector<int> &index, SourceRange where) {
+  std::size_t offset = 0, count = whole.elems.size(), used = 0;
+  for (int i : index) {
+    if (used == whole.dims.size())
+      break;
+    const int n = whole.dims[used++];
+    if (i < 1 || i > n)
+      f.fail(DiagId::BadSubscript, where, fmt::format("the binding has {} elements; element {} is needed", n, i));
+    count /= static_cast<std::size_t>(n);
+    offset += static_cast<std::size_t>(i - 1) * count;
+  }
+  Tensor t;
+  t.dims.assign(whole.dims.begin() + static_cast<std::ptrdiff_t>(used), whole.dims.end());
+  t.record = whole.record;
+  for (std::size_t k = 0; k < count; ++k)
+    t.elems.push_back(whole.elems[offset + k] ? whole.elems[offset + k]->clone() : nullptr);
+  return t;
+}
+} // namespace
+
 Tensor Flattener::binding_tensor(const Modifier &m) {
   Scope s{m.scope, m.lexical, nullptr};
   Tensor t;
   const auto key = std::make_tuple(m.binding, m.scope, m.lexical);
   auto cached = array_bindings_.find(key);
-  if (cached == array_bindings_.end() && !m.index.empty()) {
-    Tensor whole = expr(*m.binding, s);
-    if (!whole.dims.empty())
-      cached = array_bindings_.emplace(key, std::move(whole)).first;
-    else
-      t = std::move(whole);
-  } else if (cached == array_bindings_.end()) {
+  if (cached == array_bindings_.end()) {
     t = expr(*m.binding, s);
+    if (!m.index.empty() && !t.dims.empty()) // taken element by element: keep it for the others
+      cached = array_bindings_.emplace(key, std::move(t)).first;
   }
-  if (cached != array_bindings_.end()) { // a copy of the element m.index selects
-    const Tensor &whole = cached->second;
-    std::size_t offset = 0, count = whole.elems.size(), used = 0;
-    for (int i : m.index) {
-      if (used == whole.dims.size())
-        break;
-      const int n = whole.dims[used++];
-      if (i < 1 || i > n)
-        fail(DiagId::BadSubscript, m.binding->range,
-             fmt::format("the binding has {} elements; element {} is needed", n, i));
-      count /= static_cast<std::size_t>(n);
-      offset += static_cast<std::size_t>(i - 1) * count;
-    }
-    t.dims.assign(whole.dims.begin() + static_cast<std::ptrdiff_t>(used), whole.dims.end());
-    t.record = whole.record;
-    for (std::size_t k = 0; k < count; ++k)
-      t.elems.push_back(whole.elems[offset + k] ? whole.elems[offset + k]->clone() : nullptr);
-  }
+  if (cached != array_bindings_.end())
+    t = element_copy(*this, cached->second, m.index, m.binding->range);
   const auto take = [&](const std::vector<int> &index) {
     for (int i : index) {
       if (t.dims.empty())
