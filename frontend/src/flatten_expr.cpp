@@ -354,6 +354,11 @@ static Tensor binary(Flattener &f, Op op, Tensor a, Tensor b, SourceRange r) {
       if (scalar_op == Op::Eq || scalar_op == Op::Ne)
         return Tensor::scalar(ast::make_bool((x.text == y.text) == (scalar_op == Op::Eq), r));
       if (scalar_op == Op::Add) {
+        // A loop that doubles a string (`s := s + s`) would take all memory.
+        constexpr std::size_t kMaxString = 1'000'000;
+        if (x.text.size() + y.text.size() > kMaxString)
+          f.fail(DiagId::Unsupported, r,
+                 fmt::format("the joined string is longer than {} characters, mocompile's limit", kMaxString));
         auto joined = std::make_unique<Expr>(ExprKind::String, r);
         joined->text = x.text + y.text;
         return Tensor::scalar(std::move(joined));

@@ -151,6 +151,24 @@ TEST_CASE("a loop that accumulates an expression stops with a diagnostic at a bo
     CHECK(a.diagnostics.find("this algorithm section cannot be flattened: the value of 'y' grows beyond 20000 "
                              "terms or 1000 levels") != std::string::npos);
   }
+  // A string that doubles on each run of a loop stops at a million characters.
+  Compiled text = compile_text(R"(
+    function doubled
+      input Integer n;
+      output String s = "ab";
+    algorithm
+      for i in 1:n loop
+        s := s + s;
+      end for;
+    end doubled;
+    model Text
+      parameter String t = doubled(40);
+      Real x(start = 1);
+    equation
+      der(x) = -x;
+    end Text;)");
+  CHECK_FALSE(text.ok());
+  CHECK(text.diagnostics.find("error: the joined string is longer than 1000000 characters") != std::string::npos);
   // Numbers fold as they are assigned: a long counting loop stays one literal.
   Compiled count = compile_text(R"(
     model Count
