@@ -15,14 +15,15 @@ void Flattener::fail(DiagId id, SourceRange r, const std::string &msg) {
   throw Reported{};
 }
 
-std::size_t Flattener::element_count(const std::vector<long long> &dims, SourceRange r, const std::string &what) {
+std::size_t Flattener::element_count(const std::vector<long long> &dims, SourceRange r, const std::string &what,
+                                     const char *unit) {
   std::size_t total = 1;
   for (long long d : dims) {
     if (d <= 0)
       return 0;
     if (static_cast<std::size_t>(d) > opts_.max_elements / total)
       fail(DiagId::Unsupported, r,
-           fmt::format("{} has more than {} elements, mocompile's limit", what, opts_.max_elements));
+           fmt::format("{} has more than {} {}, mocompile's limit", what, opts_.max_elements, unit));
     total *= static_cast<std::size_t>(d);
   }
   return total;

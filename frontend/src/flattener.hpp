@@ -295,8 +295,10 @@ public:
                              Modifier mod, unsigned depth);
   void make_scalar(Instance &inst, const ResolvedType &rt, const Modifier &mod);
   /// The number of elements of an array of size `dims`; reports `what` at
-  /// `r` beyond opts_.max_elements (counted without overflow).
-  std::size_t element_count(const std::vector<long long> &dims, SourceRange r, const std::string &what);
+  /// `r` beyond opts_.max_elements (counted without overflow), naming the
+  /// things counted `unit`.
+  std::size_t element_count(const std::vector<long long> &dims, SourceRange r, const std::string &what,
+                            const char *unit = "elements");
   std::size_t scalars_made_ = 0; ///< scalar variables so far (make_scalar), at most opts_.max_elements
   std::size_t loop_iterations_ = 0; ///< for-equation bodies run so far, at most opts_.max_elements
   bool written_by_user(const Instance &inst, const Modifier &mod) const;
@@ -366,6 +368,8 @@ public:
   /// scope: `parameter Real table[n, 2] = [...]` took each of its 2n
   /// elements from a new flattening of the whole table (quadratic).
   std::map<std::tuple<const ast::Expr *, Instance *, ClassNode *>, Tensor> array_bindings_;
+  /// Bindings taken element by element whose flattening failed (reported once).
+  std::set<std::tuple<const ast::Expr *, Instance *, ClassNode *>> failed_bindings_;
 
   struct PendingBinding {
     std::int32_t var;

@@ -196,6 +196,9 @@ TEST_CASE("an array or a model beyond the element limit is a diagnostic, before 
       {"  parameter Real a[:, :] = diagonal(1:2000);\n", "error: diagonal() has more than 1000000 elements"},
       {"  parameter Real a[:, :] = outerProduct(1:2000, 1:1000);\n",
        "error: outerProduct() has more than 1000000 elements"},
+      // Each of B's elements flattened A * A again, failing each time.
+      {"  parameter Real A[300, 300] = fill(1, 300, 300);\n  parameter Real B[300, 300] = A * A;\n",
+       "test.mo:3:32: error: the product has more than 1000000 multiplications"},
   };
   for (const auto &[decl, message] : cases) {
     Compiled c = compile_text("model Big\n" + decl + "  Real y;\nequation\n  der(y) = -y;\nend Big;\n");
