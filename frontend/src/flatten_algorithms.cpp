@@ -455,6 +455,7 @@ private:
 
   void exec_for(const Statement &st, std::size_t index, Values &vals) {
     if (index == st.indices.size()) {
+      f_.count_statement_loop_run(st.range);
       exec(st.body, vals);
       return;
     }
@@ -488,6 +489,7 @@ private:
     for (long n = 0;; ++n) {
       if (n > kMaxWhileIterations)
         unsupported(st.range, "the while-loop runs more than 100000 times");
+      f_.count_statement_loop_run(st.range);
       ExprPtr c = condition(*st.value, vals);
       const int known = decided(*c, st.value->range);
       if (known < 0)

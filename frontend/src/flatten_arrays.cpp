@@ -124,9 +124,12 @@ Tensor Flattener::comprehension(const Expr &body, const std::vector<ast::ForInde
     ranges[k] = eval_range(*iterators[k].range, s);
   }
   Tensor out;
-  for (std::size_t k = n; k-- > 0;)
+  std::vector<long long> sizes;
+  for (std::size_t k = n; k-- > 0;) {
     out.dims.push_back(static_cast<int>(ranges[k].size()));
-  const std::size_t total = product_of(out.dims, 0, n);
+    sizes.push_back(static_cast<long long>(ranges[k].size()));
+  }
+  const std::size_t total = element_count(sizes, where, "the array constructor");
   LoopEnv env = s.env ? *s.env : LoopEnv{};
   const std::size_t base = env.values.size();
   for (std::size_t k = 0; k < n; ++k)

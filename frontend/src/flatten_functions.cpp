@@ -746,6 +746,7 @@ private:
 
   void exec_for(const Statement &st, std::size_t index) {
     if (index == st.indices.size()) {
+      f_.count_statement_loop_run(st.range);
       exec(st.body);
       return;
     }
@@ -770,6 +771,7 @@ private:
     for (long n = 0;; ++n) {
       if (n > kMaxWhileIterations)
         unsupported(st.range, "the while-loop runs more than 100000 times");
+      f_.count_statement_loop_run(st.range);
       std::vector<IndexBound> bounds;
       ExprPtr c = condition_with_bounds(*st.value, bounds);
       if (!is_literal(*c) && f_.is_constant(*c)) // parameters: their values now

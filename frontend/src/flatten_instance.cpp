@@ -29,6 +29,13 @@ std::size_t Flattener::element_count(const std::vector<long long> &dims, SourceR
   return total;
 }
 
+void Flattener::count_statement_loop_run(SourceRange r) {
+  if (++statement_loop_runs_ > 10 * opts_.max_elements)
+    fail(DiagId::Unsupported, r,
+         fmt::format("the loops of algorithms and functions run more than {} times in all, mocompile's limit",
+                     10 * opts_.max_elements));
+}
+
 Modifier Flattener::make_modifier(const ast::Modification &m, Instance *scope, ClassNode *lexical) {
   Modifier out;
   out.range = m.range;

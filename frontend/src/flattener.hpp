@@ -301,6 +301,11 @@ public:
                             const char *unit = "elements");
   std::size_t scalars_made_ = 0; ///< scalar variables so far (make_scalar), at most opts_.max_elements
   std::size_t loop_iterations_ = 0; ///< for-equation bodies run so far, at most opts_.max_elements
+  std::size_t statement_loop_runs_ = 0; ///< loop bodies of algorithms and inlined functions run so far
+  /// Counts one run of a for- or while-loop's body in an algorithm or an
+  /// inlined function; reports at `r` past 10 x opts_.max_elements in all
+  /// (nested loops of a million runs each took hours).
+  void count_statement_loop_run(SourceRange r);
   bool written_by_user(const Instance &inst, const Modifier &mod) const;
   /// Instantiates a structured component (or array element) of class `cls`
   /// and checks that its modifiers name elements of it.

@@ -196,6 +196,8 @@ TEST_CASE("an array or a model beyond the element limit is a diagnostic, before 
       {"  parameter Real a[:, :] = diagonal(1:2000);\n", "error: diagonal() has more than 1000000 elements"},
       {"  parameter Real a[:, :] = outerProduct(1:2000, 1:1000);\n",
        "error: outerProduct() has more than 1000000 elements"},
+      {"  parameter Real a[:, :] = {i * j for i in 1:3000, j in 1:3000};\n",
+       "error: the array constructor has more than 1000000 elements"},
       // Each of B's elements flattened A * A again, failing each time.
       {"  parameter Real A[300, 300] = fill(1, 300, 300);\n  parameter Real B[300, 300] = A * A;\n",
        "test.mo:3:32: error: the product has more than 1000000 multiplications"},
@@ -219,6 +221,25 @@ TEST_CASE("an array or a model beyond the element limit is a diagnostic, before 
                            "Loops", small);
   CHECK_FALSE(loops.ok());
   CHECK(loops.diagnostics.find("loops.mo:4:3: error: the model's for-equations run more than 1000 times") !=
+        std::string::npos);
+  // And the runs of loops in algorithms and functions, 10 times that in all.
+  const std::string spin = R"(
+    function spin
+      input Real u;
+      output Real y = 0;
+    algorithm
+      for i in 1:200 loop
+        for j in 1:200 loop
+        end for;
+      end for;
+      y := u;
+    end spin;
+    model Spin
+      Real x = spin(time);
+    end Spin;)";
+  Compiled spun = compile({{"spin.mo", spin}}, "Spin", small);
+  CHECK_FALSE(spun.ok());
+  CHECK(spun.diagnostics.find("spin.mo:7:9: error: the loops of algorithms and functions run more than 10000 times") !=
         std::string::npos);
   small.max_elements = 1200;
   Compiled fits = compile({{"two.mo", two}}, "Two", small);

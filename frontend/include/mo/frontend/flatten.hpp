@@ -18,11 +18,13 @@ struct FlattenOptions {
   bool check_balance = true;
   /// Deepest component nesting accepted (guards against recursive models).
   unsigned max_depth = 64;
-  /// The most elements one array value may have, the most scalar variables
-  /// a model may have, and the most times its for-equations may run in all:
-  /// a size one digit too long (`Real x[100000, 100000]`, `fill(0, 10^6,
-  /// 10^6)`, `for i in 1:9000000`) is a diagnostic instead of hours and all
-  /// memory. A million scalar variables take about 6 s and 2.3 GB to flatten.
+  /// The most elements one array value may have (multiplications of one
+  /// matrix product likewise), the most scalar variables a model may have,
+  /// and the most times its for-equations may run in all; the loops of its
+  /// algorithms and inlined functions may run 10 times that in all. A size
+  /// one digit too long (`Real x[100000, 100000]`, `fill(0, 10^6, 10^6)`,
+  /// `for i in 1:9000000`) is a diagnostic instead of hours and all memory.
+  /// A million scalar variables take about 6 s and 2.3 GB to flatten.
   std::size_t max_elements = 1'000'000;
 };
 
