@@ -214,7 +214,8 @@ TEST_CASE("an array or a model beyond the element limit is a diagnostic, before 
   const std::string two = "model Two\n  Real a[600], b[600];\nequation\n  der(a) = -a;\n  der(b) = -b;\nend Two;\n";
   Compiled over = compile({{"two.mo", two}}, "Two", small);
   CHECK_FALSE(over.ok());
-  CHECK(over.diagnostics.find("two.mo:2:16: error: the model has more than 1000 scalar variables") != std::string::npos);
+  CHECK(over.diagnostics.find("two.mo:2:16: error: the model has more than 1000 scalar variables") !=
+        std::string::npos);
   // And the times for-equations run (`for i in 1:9000000` took minutes and 7.5 GB).
   Compiled loops = compile({{"loops.mo", "model Loops\n  Real x;\nequation\n  for i in 1:2000 loop\n    x = i;\n"
                                          "  end for;\nend Loops;\n"}},
