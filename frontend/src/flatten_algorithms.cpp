@@ -146,12 +146,12 @@ private:
     f_.fail(DiagId::Unsupported, r, "this algorithm section cannot be flattened: " + what);
   }
 
-  /// Reports value `e` of variable `v` beyond kMaxValueNodes or kMaxValueDepth.
+  /// Reports value `e` of variable `v` beyond kMaxValueDepth or max_value_nodes().
   void check_size(const Expr &e, std::int32_t v, SourceRange r) {
-    if (too_large_value(e))
-      unsupported(r, fmt::format("the value of '{}' grows beyond {} terms or {} levels (a loop that "
+    if (too_large_value(e, f_.max_value_nodes()))
+      unsupported(r, fmt::format("the value of '{}' grows beyond {} levels or {} terms (a loop that "
                                  "accumulates an expression?)",
-                                 m_.variables[v].name, kMaxValueNodes, kMaxValueDepth));
+                                 m_.variables[v].name, kMaxValueDepth, f_.max_value_nodes()));
   }
 
   std::vector<std::int32_t> vars_of(const Expr &target) {

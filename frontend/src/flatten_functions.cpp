@@ -154,13 +154,13 @@ bool integer_valued(const Expr &e) {
 
 } // namespace
 
-bool too_large_value(const Expr &e) {
+bool too_large_value(const Expr &e, std::size_t max_nodes) {
   std::vector<std::pair<const Expr *, std::size_t>> work{{&e, 1}};
   std::size_t nodes = 0;
   while (!work.empty()) {
     auto [x, depth] = work.back();
     work.pop_back();
-    if (++nodes > kMaxValueNodes || depth > kMaxValueDepth)
+    if (++nodes > max_nodes || depth > kMaxValueDepth)
       return true;
     for (const auto &a : x->args)
       if (a)
@@ -794,10 +794,10 @@ private:
   void assign(const Expr &target, Tensor value) {
     f_.fold_numbers(value);
     for (const auto &e : value.elems)
-      if (e && too_large_value(*e))
-        unsupported(target.range, fmt::format("the value assigned to '{}' grows beyond {} terms or {} levels "
+      if (e && too_large_value(*e, f_.max_value_nodes()))
+        unsupported(target.range, fmt::format("the value assigned to '{}' grows beyond {} levels or {} terms "
                                               "(a loop that accumulates an expression?)",
-                                              target.ref.str(), kMaxValueNodes, kMaxValueDepth));
+                                              target.ref.str(), kMaxValueDepth, f_.max_value_nodes()));
     if (target.kind != ExprKind::Ref || target.ref.global)
       unsupported(target.range, "only a local variable, an element or a field of one can be assigned");
     const std::string &name = target.ref.parts[0].name;

@@ -222,15 +222,18 @@ class Flattener;
 Tensor reduce_elements(Flattener &f, const std::string &name, Tensor a, SourceRange r);
 
 /// Bounds on one value that an algorithm computes symbolically (a function's
-/// local or output, a model algorithm's variable): a loop that accumulates an
-/// expression (`y := y + t` a million times) stops there instead of costing
-/// the square of its length, and no value nests deeper than the parser lets
-/// source text nest.
-constexpr std::size_t kMaxValueNodes = 20'000;
+/// local or output, a model algorithm's variable). No value nests deeper
+/// than the parser lets source text nest: a loop that accumulates an
+/// expression (`y := y + t` a million times) stops after a thousand runs
+/// instead of costing the square of its length. And none has more nodes
+/// than Flattener::max_value_nodes(): a value that doubles on each run (a
+/// varying `if` in a loop) stops there. Sizes, not depth, are large in real
+/// models: the MSL's NoiseExamples.Distributions inlines values of 3.5
+/// million nodes, 77 levels deep.
 constexpr std::size_t kMaxValueDepth = 1'000;
-/// Whether `e` has more than kMaxValueNodes nodes or nests deeper than
-/// kMaxValueDepth; counts no further than either bound.
-bool too_large_value(const ast::Expr &e);
+/// Whether `e` nests deeper than kMaxValueDepth or has more than
+/// `max_nodes` nodes; counts no further than either bound.
+bool too_large_value(const ast::Expr &e, std::size_t max_nodes);
 
 /// Thrown (and caught at the statement level) once a diagnostic has been
 /// reported for the current equation or binding.
@@ -302,6 +305,8 @@ public:
   std::size_t scalars_made_ = 0; ///< scalar variables so far (make_scalar), at most opts_.max_elements
   std::size_t loop_iterations_ = 0; ///< for-equation bodies run so far, at most opts_.max_elements
   std::size_t statement_loop_runs_ = 0; ///< loop bodies of algorithms and inlined functions run so far
+  /// The most nodes one value of an algorithm may have (too_large_value).
+  std::size_t max_value_nodes() const { return 5 * opts_.max_elements; }
   /// Counts one run of a for- or while-loop's body in an algorithm or an
   /// inlined function; reports at `r` past 10 x opts_.max_elements in all
   /// (nested loops of a million runs each took hours).
