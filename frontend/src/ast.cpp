@@ -106,6 +106,7 @@ ExprPtr Expr::clone() const {
     dst->op = src->op;
     dst->number = src->number;
     dst->var = src->var;
+    dst->resolved = src->resolved;
     dst->text = src->text;
     dst->ref.global = src->ref.global;
     for (const auto &p : src->ref.parts) {
@@ -212,6 +213,7 @@ ExprPtr make_binary(Op op, ExprPtr a, ExprPtr b, SourceRange r) {
 }
 ExprPtr make_call(std::string fn, std::vector<ExprPtr> args, SourceRange r) {
   auto e = std::make_unique<Expr>(ExprKind::Call, r);
+  e->resolved = true;
   e->ref.parts.push_back(RefPart{std::move(fn), {}});
   e->args = std::move(args);
   return e;

@@ -357,6 +357,7 @@ private:
     if (n != "assert" && varying_ifs_ > 0)
       unsupported(st.range, "'" + n + "(...)' under a condition that varies in time");
     auto flat_call = std::make_unique<Expr>(ExprKind::Call, c.range);
+    flat_call->resolved = true;
     flat_call->ref.parts.push_back(ast::RefPart{n, {}});
     for (std::size_t i = 0; i < c.args.size(); ++i) {
       if (n == "reinit" && i == 0) {

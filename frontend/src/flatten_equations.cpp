@@ -498,6 +498,7 @@ void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<as
       rest.push_back(expr(*call.args[i], s));
     for (std::size_t k = 0; k < count; ++k) {
       auto c = std::make_unique<Expr>(ExprKind::Call, call.range);
+      c->resolved = true;
       c->ref = ast::ComponentRef{};
       c->ref.parts.push_back(ast::RefPart{n, {}});
       if (!call.args.empty())

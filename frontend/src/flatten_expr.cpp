@@ -627,6 +627,8 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
                        lo == hi ? std::to_string(lo) : fmt::format("{} to {}", lo, hi), hi == 1 ? "" : "s",
                        e.args.size()));
   };
+  if (ClassNode *fn = enclosing_function(e, s))
+    return std::move(call_function(fn, e, s)[0]);
   if (Tensor t; array_function(e, s, t))
     return t;
   if (name == "Connections.isRoot" || name == "Connections.rooted" || name == "rooted")

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <fmt/format.h>
 #include <fmt/ranges.h>
+#include <algorithm>
 #include <functional>
 #include <limits>
 #include <map>
@@ -913,6 +914,28 @@ ClassNode *Flattener::lookup_function(const Expr &call, const Scope &s) {
   return fn && fn->def->restriction == ast::Restriction::Function ? fn : nullptr;
 }
 
+ClassNode *Flattener::enclosing_function(const Expr &call, const Scope &s) {
+  if (call.kind != ExprKind::Call || call.resolved || !call.ref.is_simple())
+    return nullptr;
+  const std::string &name = call.ref.parts[0].name;
+  if (name == "Real" || name == "Integer" || name == "Boolean" || name == "String") // reserved, MLS 4.8
+    return nullptr;
+  if (s.inst && s.inst->member_index.count(name))
+    return nullptr;
+  ClassNode *scope = s.cls ? s.cls : &lib_.root;
+  const auto key = std::make_pair(scope, name);
+  if (auto it = enclosing_functions_.find(key); it != enclosing_functions_.end())
+    return it->second;
+  ClassNode *fn = lookup_function(call, s);
+  // Modelica.Math.exp inside Modelica.Math: `external "builtin"` of the same
+  // name is the built-in itself, with no inlining to go through.
+  if (fn && fn->def->external_language == "builtin" &&
+      (fn->def->external_function.empty() ? fn->name : fn->def->external_function) == name)
+    fn = nullptr;
+  enclosing_functions_.emplace(key, fn);
+  return fn;
+}
+
 std::vector<std::size_t> Flattener::designate(const Tensor &slot, const ast::ComponentRef &ref, const Scope &s,
                                               SourceRange where, Tensor &shape) {
   // Each step keeps the indices of `slot` that the reference designates so
@@ -1275,6 +1298,7 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
            "external function '" + fn_name + "' (language \"" + def.external_language +
                "\") cannot be evaluated; only external \"builtin\" functions are supported");
     auto builtin = std::make_unique<Expr>(ExprKind::Call, call.range);
+    builtin->resolved = true; // the built-in itself, whatever the scope defines
     builtin->ref.parts.push_back(ast::RefPart{def.external_function.empty() ? fn->name : def.external_function, {}});
     for (std::size_t i = 0; i < args.size(); ++i) {
       if (!args[i])

@@ -122,6 +122,7 @@ bool Flattener::provided_random(const ast::ClassDef &def, const std::string &fn_
     }
     auto output = [&](std::size_t k) {
       auto e = std::make_unique<Expr>(ExprKind::Call, call.range);
+      e->resolved = true;
       e->ref.parts.push_back(ast::RefPart{c, {}});
       e->args.push_back(ast::make_integer(static_cast<long long>(k), call.range));
       for (const auto &x : state.elems)
@@ -227,6 +228,7 @@ ExprPtr Flattener::impure_event_draw(SourceRange where) {
     impure_branch_ = when_branch_serial_;
     for (const std::int32_t var : impure_vars_) {
       auto pre = std::make_unique<Expr>(ExprKind::Call, where);
+      pre->resolved = true;
       pre->ref.parts.push_back(ast::RefPart{"pre", {}});
       pre->args.push_back(variable_expr(var, where));
       impure_branch_state_.push_back(std::move(pre));
@@ -235,6 +237,7 @@ ExprPtr Flattener::impure_event_draw(SourceRange where) {
   // One xorshift1024* step of the state so far in this clause.
   auto output = [&](std::size_t k) {
     auto e = std::make_unique<Expr>(ExprKind::Call, where);
+    e->resolved = true;
     e->ref.parts.push_back(ast::RefPart{std::string(random::c_name(random::Generator::Xorshift1024star)), {}});
     e->args.push_back(ast::make_integer(static_cast<double>(k), where));
     for (const auto &x : impure_branch_state_)

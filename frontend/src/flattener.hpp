@@ -10,6 +10,7 @@
 #include "mo/frontend/flat.hpp"
 #include "mo/frontend/flatten.hpp"
 
+#include <algorithm>
 #include <functional>
 #include <map>
 #include <tuple>
@@ -429,6 +430,16 @@ public:
   // -- functions (flatten_functions.cpp)
   /// The function class a call names, or null when it names none.
   ClassNode *lookup_function(const ast::Expr &call, const Scope &s);
+  /// MLS 5.3.1: a simple name is looked up in the enclosing scopes before the
+  /// built-ins of the global scope, so a function declared there named like a
+  /// built-in (`Modelica.Math.Matrices.exp` inside Matrices, ComplexMath's
+  /// `exp`, a model's own `sum`) is the one called. The function, or null when
+  /// the call is qualified, names a reserved type (Real, Integer, Boolean,
+  /// String) or a component in scope (Optimica's `x(t)`), or lookup finds no
+  /// function or an `external "builtin"` one of the name (Modelica.Math.exp
+  /// inside Modelica.Math: the built-in). Cached per scope class and name.
+  ClassNode *enclosing_function(const ast::Expr &call, const Scope &s);
+  std::map<std::pair<ClassNode *, std::string>, ClassNode *> enclosing_functions_;
   /// A call of user function `fn` inlined: its outputs (at most `wanted`) as
   /// expressions of the arguments; `external "builtin"` maps to the built-in.
   /// Reports what cannot be inlined and throws Reported.

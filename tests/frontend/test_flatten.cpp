@@ -181,6 +181,51 @@ end Top;
 )");
 }
 
+// MLS 5.3.1: built-in names are looked up like others, in the enclosing
+// scopes first (the MSL's Matrices.integralExpT calls its own package's
+// two-argument exp; ComplexMath.sin calls ComplexMath.exp).
+TEST_CASE("a function named like a built-in in an enclosing scope is the one called", "[flatten]") {
+  const char *src = R"(
+    package Lib
+      function sum "a scalar function named like the reduction"
+        input Real x;
+        output Real y = 2 * x;
+      algorithm
+      end sum;
+      package Inner
+        model Uses
+          Real a = sum(time);
+          Real b = abs(-time); // not shadowed: the built-in
+        end Uses;
+      end Inner;
+      encapsulated model Sealed
+        Real c = sum({time, 1}); // from an encapsulated class: the global scope
+      end Sealed;
+    end Lib;
+    model Own
+      function sin
+        input String s;
+        output Real r = 1.5;
+      algorithm
+      end sin;
+      Real r = sin("abc");
+      Lib.Inner.Uses u;
+      Lib.Sealed v;
+    end Own;)";
+  CHECK(flat(src, "Own") == R"(class Own
+  Real r;
+  Real `u.a`;
+  Real `u.b`;
+  Real `v.c`;
+equation
+  r = 1.5;
+  `u.a` = 2 * time;
+  `u.b` = abs(-time);
+  `v.c` = time + 1;
+end Own;
+)");
+}
+
 TEST_CASE("the AST dump (--emit ast) shows the parsed tree", "[parser]") {
   using namespace mo::frontend;
   SourceManager sm;

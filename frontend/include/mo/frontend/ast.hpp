@@ -78,6 +78,9 @@ struct Expr {
   SourceRange range;
   double number = 0;
   std::int32_t var = -1; ///< flat models: index of the flat variable
+  /// A call the flattener made (a built-in, a variable at a time point):
+  /// resolved already, so flattening it again does not look its name up.
+  bool resolved = false;
   std::string text;
   ComponentRef ref;
   std::vector<ExprPtr> args;
