@@ -1389,7 +1389,16 @@ std::vector<Tensor> Flattener::inline_or_evaluate(ClassNode *fn, const Signature
   const auto report = [&](const InlineUnsupported &u) {
     fail(DiagId::Unsupported, u.range, "cannot inline function '" + fn_name + "': " + u.what);
   };
+  const bool evaluable = std::all_of(arguments.begin(), arguments.end(), [this](const Tensor &t) {
+    return std::all_of(t.elems.begin(), t.elems.end(), [this](const ExprPtr &e) { return !e || is_constant(*e); });
+  });
   try {
+    struct Cap { // a smaller bound while inlining a call that can be evaluated instead
+      std::size_t &cap, saved;
+      ~Cap() { cap = saved; }
+    } cap{value_nodes_cap_, value_nodes_cap_};
+    if (evaluable)
+      value_nodes_cap_ = std::min(value_nodes_cap_, kEvaluableValueNodes);
     return inline_call(*this, fn, sig, given, arguments, call, wanted);
   } catch (const InlineUnsupported &u) {
     // A loop to a tolerance, an error() on a bad input, ...: with parameter

@@ -232,6 +232,11 @@ Tensor reduce_elements(Flattener &f, const std::string &name, Tensor a, SourceRa
 /// models: the MSL's NoiseExamples.Distributions inlines values of 3.5
 /// million nodes, 77 levels deep.
 constexpr std::size_t kMaxValueDepth = 1'000;
+/// The bound on a value while a call of parameters only is inlined: the
+/// MSL's Matrices.exp of a parameter matrix branches on the parameters' values
+/// at every step of its series, grows past it within a second, and is then
+/// evaluated (it took a minute to reach the general bound first).
+constexpr std::size_t kEvaluableValueNodes = 20'000;
 /// Whether `e` nests deeper than kMaxValueDepth or has more than
 /// `max_nodes` nodes; counts no further than either bound.
 bool too_large_value(const ast::Expr &e, std::size_t max_nodes);
@@ -307,7 +312,11 @@ public:
   std::size_t loop_iterations_ = 0; ///< for-equation bodies run so far, at most opts_.max_elements
   std::size_t statement_loop_runs_ = 0; ///< loop bodies of algorithms and inlined functions run so far
   /// The most nodes one value of an algorithm may have (too_large_value).
-  std::size_t max_value_nodes() const { return 5 * opts_.max_elements; }
+  std::size_t max_value_nodes() const { return std::min(5 * opts_.max_elements, value_nodes_cap_); }
+  /// Lowered while a call whose arguments are all parameters is inlined
+  /// (inline_or_evaluate): such a call can be evaluated instead, which a
+  /// value past kEvaluableValueNodes makes the better choice.
+  std::size_t value_nodes_cap_ = static_cast<std::size_t>(-1);
   /// Counts one run of a for- or while-loop's body in an algorithm or an
   /// inlined function; reports at `r` past 10 x opts_.max_elements in all
   /// (nested loops of a million runs each took hours).

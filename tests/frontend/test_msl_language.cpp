@@ -473,6 +473,48 @@ TEST_CASE("Modelica.Constants.pi with the MSL on the lookup path", "[msl][lookup
   CHECK(contains(out, "parameter Real tau = 2 * 3.14159"));
 }
 
+// Matrices.integralExpT calls `exp(F, T)`: its own package's matrix
+// exponential (MLS 5.3.1), not the built-in. Of parameters, it is evaluated
+// (the series branches on their values); exp of [1 2; 3 4] * 1.1 and the
+// integrals, checked against a scaled-and-squared Taylor series.
+TEST_CASE("the MSL's matrix exponential is found before the built-in exp", "[msl][lookup]") {
+  const std::string shared = shared_dir();
+  if (shared.empty()) {
+    WARN("SKIPPED: no ../shared/third_party (set MO_SHARED_DIR)");
+    return;
+  }
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("mo_msl_expm_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  write_file((dir / "Expm.mo").string(), R"(model Expm
+  parameter Real A[2, 2] = {{1, 2}, {3, 4}};
+  parameter Real B[2, 1] = {{1}, {1}};
+  Real phi[2, 2];
+  Real g[2, 1];
+  Real g1[2, 1];
+equation
+  (phi, g, g1) = Modelica.Math.Matrices.integralExpT(A, B, 1.1);
+end Expm;
+)");
+  const std::string cmd = "MODELICAPATH=" + shared + "/third_party/msl-3.2.2 " + MO_MOCOMPILE + " " +
+                          (dir / "Expm.mo").string() + " > " + (dir / "out.txt").string() + " 2>&1";
+  const int status = std::system(cmd.c_str());
+  const std::string out = read_file((dir / "out.txt").string());
+  fs::remove_all(dir);
+  INFO(out);
+  REQUIRE(WEXITSTATUS(status) == 0);
+  CHECK(contains(out, "warning: function 'Modelica.Math.Matrices.exp' cannot be inlined"));
+  const std::pair<const char *, double> expected[] = {
+      {"`phi[1,1]` = ", 88.539990301}, {"`phi[1,2]` = ", 128.072885534}, {"`phi[2,1]` = ", 192.109328301},
+      {"`phi[2,2]` = ", 280.649318588}, {"`g[1,1]` = ", 40.532895237},    {"`g[2,1]` = ", 87.539990296},
+      {"`g1[1,1]` = ", 7.574199825},    {"`g1[2,1]` = ", 15.929347706}};
+  for (const auto &[lhs, v] : expected) {
+    const auto at = out.find(lhs);
+    REQUIRE(at != std::string::npos);
+    CHECK(std::stod(out.substr(at + std::string(lhs).size())) == Approx(v).epsilon(1e-8));
+  }
+}
+
 TEST_CASE("connections to a switched-off conditional component are removed", "[msl]") {
   std::string s = flat(R"(
     connector Pin

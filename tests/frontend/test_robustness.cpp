@@ -3,6 +3,7 @@
 #include "compile.hpp"
 
 #include <catch2/catch.hpp>
+#include <fmt/format.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -207,6 +208,47 @@ TEST_CASE("a loop that accumulates an expression stops with a diagnostic at a bo
   INFO(count.diagnostics);
   REQUIRE(count.ok());
   CHECK(count.model->print().find("  y = 50000 * time;\n") != std::string::npos);
+}
+
+TEST_CASE("a call of parameters whose inlined value grows large is evaluated instead", "[robust][functions]") {
+  // y := y*y + a doubles y's expression on each run: 2^20 nodes after 20. Of
+  // a parameter, the call is evaluated once the value passes 20000 nodes
+  // (the MSL's Matrices.exp of a parameter matrix took a minute before); of
+  // a time-varying argument it stays symbolic up to the general bound.
+  const std::string src = R"(
+    function iterate
+      input Real a;
+      input Integer n;
+      output Real y = 0;
+    algorithm
+      for k in 1:n loop
+        y := y * y + a;
+      end for;
+    end iterate;
+    model OfParameter
+      parameter Real a = 0.1;
+      Real x = iterate(a, 20) * time;
+    end OfParameter;
+    model OfTime
+      Real x = iterate(time, 12);
+    end OfTime;)";
+  Compiled p = compile({{"iterate.mo", src}}, "OfParameter");
+  INFO(p.diagnostics);
+  REQUIRE(p.ok());
+  CHECK(p.diagnostics.find("iterate.mo:13:16: warning: function 'iterate' cannot be inlined (the value assigned to "
+                           "'y' grows beyond 1000 levels or 20000 terms")
+        != std::string::npos);
+  double y = 0;
+  for (int k = 0; k < 20; ++k)
+    y = y * y + 0.1;
+  const std::string printed = p.model->print();
+  INFO(printed);
+  CHECK(printed.find(fmt::format("  x = {} * time;", y)) != std::string::npos);
+  // 2^12 nodes of a varying argument: inlined, no warning.
+  Compiled t = compile({{"iterate.mo", src}}, "OfTime");
+  INFO(t.diagnostics);
+  REQUIRE(t.ok());
+  CHECK(t.diagnostics.find("warning") == std::string::npos);
 }
 
 TEST_CASE("an array or a model beyond the element limit is a diagnostic, before it is built", "[robust]") {
