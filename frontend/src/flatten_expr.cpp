@@ -434,6 +434,20 @@ static Tensor binary(Flattener &f, Op op, Tensor a, Tensor b, SourceRange r) {
                      dims_text(b.dims)));
 }
 
+// Out of expr()'s frame, which recursion through operators repeats.
+Tensor Flattener::unary_on_record(const Expr &e, Tensor a) {
+  std::vector<Tensor> operands;
+  operands.push_back(std::move(a));
+  return overloaded_operator(e.op, std::move(operands), e);
+}
+
+Tensor Flattener::binary_on_records(const Expr &e, Tensor a, Tensor b) {
+  std::vector<Tensor> operands;
+  operands.push_back(std::move(a));
+  operands.push_back(std::move(b));
+  return overloaded_operator(e.op, std::move(operands), e);
+}
+
 Tensor Flattener::expr(const Expr &e, const Scope &s) {
   // Only the operators recurse in this frame: `a + b + ... ` nests as deep as
   // it has terms, and expr_node's frame (every other kind, with its
@@ -441,13 +455,18 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
   switch (e.kind) {
   case ExprKind::Unary: {
     Tensor a = expr(*e.args[0], s);
-    no_record(a, e.range, e.op);
+    if (a.record && e.op != Op::Plus)
+      return unary_on_record(e, std::move(a));
     if (e.op == Op::Plus)
       return a;
     return elementwise(std::move(a), [&](ExprPtr x) { return ast::make_unary(e.op, std::move(x), e.range); });
   }
-  case ExprKind::Binary:
-    return binary(*this, e.op, expr(*e.args[0], s), expr(*e.args[1], s), e.range);
+  case ExprKind::Binary: {
+    Tensor a = expr(*e.args[0], s), b = expr(*e.args[1], s);
+    if (a.record || b.record)
+      return binary_on_records(e, std::move(a), std::move(b));
+    return binary(*this, e.op, std::move(a), std::move(b), e.range);
+  }
   default:
     return expr_node(e, s);
   }
@@ -829,8 +848,11 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
   }
   if (ClassNode *fn = lookup_function(e, s))
     return std::move(call_function(fn, e, s)[0]);
-  if (ClassNode *rec = lookup_called_class(e, s); rec && is_record_class(rec))
+  if (ClassNode *rec = lookup_called_class(e, s); rec && is_record_class(rec)) {
+    if (std::optional<Tensor> t = overloaded_constructor(rec, e, s))
+      return std::move(*t);
     return record_constructor(rec, e, s);
+  }
   fail(DiagId::UnknownFunction, e.range, "unknown function '" + name + "'");
 }
 

@@ -1045,6 +1045,26 @@ std::vector<const Expr *> match_arguments(Flattener &f, const Signature &sig, co
 
 namespace {
 
+/// The fields of record value `t` (of each element of a record array) that
+/// `mod` binds, as in `output Complex result(re = re, im = im)`.
+void bind_fields(Flattener &f, Tensor &t, const ast::Modification &mod, const Scope &fs, const std::string &fn_name,
+                 const std::string &name) {
+  for (const ast::ElementMod &m : mod.args) {
+    const auto field = std::find_if(t.record->fields.begin(), t.record->fields.end(), [&](const RecordLayout::Field &x) {
+      return m.path.size() == 1 && x.name == m.path[0];
+    });
+    if (!m.mod.binding || m.redeclare || field == t.record->fields.end())
+      f.fail(DiagId::Unsupported, m.range,
+             "cannot inline function '" + fn_name + "': of '" + name + "', only fields bound as 'k = e' are supported");
+    const Tensor v = f.expr(*m.mod.binding, fs);
+    if (v.elems.size() != field->size || !same_record_type(v.record, field->record))
+      f.fail(DiagId::TypeMismatch, m.range, "the value of field '" + field->name + "' of '" + name + "' has the wrong size");
+    for (std::size_t base = 0; base < t.elems.size(); base += t.record->size)
+      for (std::size_t j = 0; j < field->size; ++j)
+        t.elems[base + field->offset + j] = v.elems[j]->clone();
+  }
+}
+
 /// Runs `fn`'s algorithm on `arguments` (the given inputs, expressions or
 /// numbers) along the outcomes `decisions` gives; throws
 /// NeedDecision at a varying condition past them, InlineUnsupported where it
@@ -1102,7 +1122,9 @@ std::vector<Tensor> inline_path(Flattener &f, ClassNode *fn, const Signature &si
       if (!sized)
         f.fail(DiagId::Unsupported, c.range,
                "cannot inline function '" + fn_name + "': '" + c.name + "' is a record array of unknown size");
-      in.values[c.name] = f.record_defaults(record, dims, c.range);
+      Tensor t = f.record_defaults(record, dims, c.range);
+      bind_fields(f, t, c.mod, fs, fn_name, c.name); // `output Complex result(re = re, im = im)`
+      in.values[c.name] = std::move(t);
       return;
     }
     Tensor t;
@@ -1342,6 +1364,39 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
     return out;
   }
   return inline_or_evaluate(fn, sig, given, std::move(arguments), call, wanted);
+}
+
+std::optional<Tensor> Flattener::apply_function(ClassNode *fn, std::vector<Tensor> values, const Expr &site) {
+  if (!fn || !fn->def || fn->def->restriction != ast::Restriction::Function || fn->def->short_base ||
+      fn->def->is_external)
+    return std::nullopt;
+  Signature sig;
+  collect(*this, fn, sig, 0);
+  if (values.size() > sig.inputs.size() || sig.outputs.empty())
+    return std::nullopt;
+  for (std::size_t i = 0; i < sig.inputs.size(); ++i) {
+    const ast::Component &c = *sig.inputs[i].first;
+    if (i >= values.size()) {
+      if (!c.mod.binding) // an input without a default needs a value
+        return std::nullopt;
+      continue;
+    }
+    ResolvedType rt;
+    if (!resolve_type(sig.inputs[i].second, c.type, rt))
+      return std::nullopt;
+    const Tensor &v = values[i];
+    const bool record_input = !rt.is_builtin && rt.cls && is_record_class(rt.cls);
+    if (record_input != static_cast<bool>(v.record) || (record_input && v.record->cls != rt.cls))
+      return std::nullopt;
+    if (!record_input && (!rt.is_builtin || rt.builtin == flat::BaseType::String))
+      return std::nullopt;
+    if (v.dims.size() != c.dims.size() + rt.dims.size())
+      return std::nullopt;
+  }
+  std::vector<bool> given(sig.inputs.size(), false);
+  std::fill(given.begin(), given.begin() + static_cast<long>(values.size()), true);
+  values.resize(sig.inputs.size());
+  return std::move(inline_or_evaluate(fn, sig, given, std::move(values), site, 1).front());
 }
 
 Tensor Flattener::call_elementwise(ClassNode *fn, const Signature &sig, const std::vector<bool> &given,

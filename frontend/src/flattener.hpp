@@ -449,6 +449,12 @@ public:
   /// inside Modelica.Math: the built-in). Cached per scope class and name.
   ClassNode *enclosing_function(const ast::Expr &call, const Scope &s);
   std::map<std::pair<ClassNode *, std::string>, ClassNode *> enclosing_functions_;
+  /// `fn` applied to flattened `values`, its first inputs in order (the rest
+  /// take their defaults): its first output inlined, or nullopt when the
+  /// values do not fit those inputs (a record of the input's class for a
+  /// record input, a number otherwise, as many dimensions as declared). For
+  /// operator records (flatten_operators.cpp); `site` gives the ranges.
+  std::optional<Tensor> apply_function(ClassNode *fn, std::vector<Tensor> values, const ast::Expr &site);
   /// A call of user function `fn` inlined: its outputs (at most `wanted`) as
   /// expressions of the arguments; `external "builtin"` maps to the built-in.
   /// Reports what cannot be inlined and throws Reported.
@@ -480,6 +486,24 @@ public:
   /// (subscripts and record fields); `shape` gets their dims and record.
   std::vector<std::size_t> designate(const Tensor &slot, const ast::ComponentRef &ref, const Scope &s,
                                      SourceRange where, Tensor &shape);
+  // -- operator records (flatten_operators.cpp, MLS 14)
+  /// `op` on `operands` (one for unary minus and `not`, else two), a record
+  /// among them: the function of operator 'op' of the first operator record
+  /// among them that takes them (MLS 14.3), or else the number operand
+  /// converted by that record's 'constructor' (MLS 14.4). Reports when no
+  /// operand is an operator record or no function takes the operands.
+  Tensor overloaded_operator(ast::Op op, std::vector<Tensor> operands, const ast::Expr &site);
+  /// overloaded_operator for unary `e` and binary `e` (flatten_expr.cpp).
+  Tensor unary_on_record(const ast::Expr &e, Tensor a);
+  Tensor binary_on_records(const ast::Expr &e, Tensor a, Tensor b);
+  /// The functions of operator `name` ("'+'", "'constructor'") of `record`:
+  /// an `operator function` itself, or the functions of an `operator`.
+  std::vector<ClassNode *> operator_functions(ClassNode *record, const std::string &name);
+  /// `R(args)` for an operator record R that has a 'constructor' (MLS 14.2):
+  /// its function that takes the flattened positional `call` arguments, or
+  /// nullopt (no 'constructor', named arguments, or none takes them: the
+  /// record constructor applies).
+  std::optional<Tensor> overloaded_constructor(ClassNode *record, const ast::Expr &call, const Scope &s);
   /// The class a call names (a function, a record constructor), or null.
   ClassNode *lookup_called_class(const ast::Expr &call, const Scope &s);
   /// A call that names a function through components (`world.gravityAcceleration(r)`,

@@ -194,3 +194,106 @@ TEST_CASE("a record component's [:, :] field takes its size from the record's bi
   CHECK(text.find("parameter Real `m.mat.k` = 2;") != std::string::npos);
   CHECK(text.find("`m.y` = `m.mat.tab[3,2]` * `m.mat.k` * time;") != std::string::npos);
 }
+
+// Operator records (MLS 14; flatten_operators.cpp): a dual number with its
+// own operators, the way the MSL's Complex is written (an operator holding
+// several functions, operator functions, a constructor with a default, an
+// output bound field by field).
+namespace {
+
+const char *kDual = R"(
+operator record Dual "a + b eps, eps^2 = 0"
+  Real a;
+  Real b;
+  encapsulated operator 'constructor'
+    function fromReal
+      import Dual;
+      input Real a;
+      input Real b = 0;
+      output Dual result(a = a, b = b);
+    algorithm
+    end fromReal;
+  end 'constructor';
+  encapsulated operator '-'
+    function negate
+      import Dual;
+      input Dual x;
+      output Dual y;
+    algorithm
+      y := Dual(-x.a, -x.b);
+    end negate;
+    function subtract
+      import Dual;
+      input Dual x;
+      input Dual z;
+      output Dual y;
+    algorithm
+      y := Dual(x.a - z.a, x.b - z.b);
+    end subtract;
+  end '-';
+  encapsulated operator function '+'
+    import Dual;
+    input Dual x;
+    input Dual z;
+    output Dual y;
+  algorithm
+    y := Dual(x.a + z.a, x.b + z.b);
+  end '+';
+  encapsulated operator function '*'
+    import Dual;
+    input Dual x;
+    input Dual z;
+    output Dual y;
+  algorithm
+    y := Dual(x.a * z.a, x.a * z.b + x.b * z.a);
+  end '*';
+  encapsulated operator function '=='
+    import Dual;
+    input Dual x;
+    input Dual z;
+    output Boolean same;
+  algorithm
+    same := x.a == z.a and x.b == z.b;
+  end '==';
+end Dual;
+)";
+
+} // namespace
+
+TEST_CASE("operator records: operators and the constructor call the record's functions", "[flatten][records]") {
+  Compiled c = compile({{"Dual.mo", kDual}, {"M.mo", R"(
+model M
+  Dual x = Dual(time, 1);
+  Dual square = x * x;          // (t + eps)^2 = t^2 + 2t eps
+  Dual shifted = 3 + x - Dual(1); // a number converted by the constructor
+  Dual minus = -x;
+  Boolean same = x == Dual(2, 1);
+end M;
+)"}},
+                       "M");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string printed = c.model->print();
+  INFO(printed);
+  for (const char *eq : {"  `x.a` = time;\n", "  `x.b` = 1;\n", "  `square.a` = `x.a` * `x.a`;\n",
+                         "  `square.b` = `x.a` * `x.b` + `x.b` * `x.a`;\n", "  `shifted.a` = 3 + `x.a` - 1;\n",
+                         "  `shifted.b` = 0 + `x.b` - 0;\n", "  `minus.a` = -`x.a`;\n", "  `minus.b` = -`x.b`;\n",
+                         "  same = `x.a` == 2 and `x.b` == 1;\n"})
+    CHECK(printed.find(eq) != std::string::npos);
+}
+
+TEST_CASE("operator records: an operator the record does not define is reported", "[flatten][records]") {
+  Compiled c = compile({{"Dual.mo", kDual}, {"M.mo", R"(
+model M
+  Dual x = Dual(time, 1);
+  Dual q = x / x;
+  Dual r = x * {1, 2};
+end M;
+)"}},
+                       "M");
+  CHECK_FALSE(c.ok());
+  CHECK(c.diagnostics.find("M.mo:4:12: error: no function of operator '/' of 'Dual' takes Dual and Dual (the record "
+                           "defines no such operator)") != std::string::npos);
+  CHECK(c.diagnostics.find("M.mo:5:12: error: no function of operator '*' of 'Dual' takes Dual and an array")
+        != std::string::npos);
+}
