@@ -439,7 +439,8 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
       fail(DiagId::NotAClass, comp.type.range,
            "'" + comp.type.str() + "' is a " + ast::restriction_text(def.restriction) +
                " and cannot be the type of a component");
-    inst.is_connector = def.restriction == ast::Restriction::Connector ||
+    // `connector ComplexOutput = output Complex`: a connector of a record type.
+    inst.is_connector = rt.is_connector || def.restriction == ast::Restriction::Connector ||
                         def.restriction == ast::Restriction::ExpandableConnector;
     inst.expandable = def.restriction == ast::Restriction::ExpandableConnector;
   }

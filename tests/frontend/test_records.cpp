@@ -297,3 +297,35 @@ end M;
   CHECK(c.diagnostics.find("M.mo:5:12: error: no function of operator '*' of 'Dual' takes Dual and an array")
         != std::string::npos);
 }
+
+TEST_CASE("a connector of a record type joins the records field by field", "[flatten][records]") {
+  Compiled c = compile({{"Dual.mo", kDual}, {"M.mo", R"(
+connector DualInput = input Dual;
+connector DualOutput = output Dual;
+block Source
+  DualOutput y;
+equation
+  y = Dual(time, 1);
+end Source;
+block Twice
+  DualInput u;
+  DualOutput y;
+equation
+  y = u + u;
+end Twice;
+model M
+  Source s;
+  Twice t;
+equation
+  connect(s.y, t.u);
+end M;
+)"}},
+                       "M");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string printed = c.model->print();
+  INFO(printed);
+  CHECK(printed.find("  `s.y.a` = `t.u.a`;\n") != std::string::npos);
+  CHECK(printed.find("  `s.y.b` = `t.u.b`;\n") != std::string::npos);
+  CHECK(printed.find("  `t.y.a` = `t.u.a` + `t.u.a`;\n") != std::string::npos);
+}
