@@ -147,8 +147,11 @@ void Flattener::finish_connections() {
   };
   std::vector<char> used(n, 0);
   std::vector<SourceRange> first_range(n);
+  const auto broken = broken_connection_pairs();
   for (std::size_t k = 0; k < connections_.size(); ++k) {
     auto [a, b] = connections_[k];
+    if (broken.count({a / 2, b / 2})) // a connection that closes a loop: equalityConstraint instead
+      continue;
     for (auto e : {a, b})
       if (!used[e]) {
         used[e] = 1;
@@ -216,6 +219,7 @@ void Flattener::finish_connections() {
       }
     }
   }
+  equality_constraints();
   // Unconnected flows (inside element in no set) are zero.
   for (std::size_t v = 0; v < model_->variables.size(); ++v) {
     const flat::Variable &var = model_->variables[v];

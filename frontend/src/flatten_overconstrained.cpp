@@ -7,9 +7,11 @@
 // if-equations on parameters and for-loops; the graph is closed before the
 // other equations, which read it (and skip the statements).
 //
-// Scope: a graph without loops. A loop (a connection or branch between two
-// nodes the tree already joins) would need the equalityConstraint residues
-// in place of the connection's equations; it is reported as unsupported.
+// The spanning tree takes every branch (a required edge, MLS 9.4.2), then the
+// connections that join parts it does not join yet. A connection that closes
+// a loop is broken: finish_connections gives it the equalityConstraint
+// residues of its two records instead of their equations (MLS 9.4.1). A loop
+// of branches alone is an error.
 #include "flattener.hpp"
 
 #include <deque>
@@ -157,20 +159,41 @@ void Flattener::close_connection_graph() {
   OverconstrainedGraph &g = graph_;
   if (g.roots.empty() && g.potential.empty() && g.branches.empty() && g.connections.empty())
     return;
-  // Adjacency: branches and connections alike (loop-free graphs only).
+  // Adjacency of the spanning tree: branches, then the connections that
+  // join parts not joined yet (union-find); the others are broken.
   std::unordered_map<Instance *, std::vector<std::pair<Instance *, SourceRange>>> next;
   std::vector<Instance *> nodes; // in order of first appearance: stable messages
-  auto add = [&](const OverconstrainedGraph::Edge &e) {
+  std::unordered_map<Instance *, Instance *> part;
+  const auto find = [&](Instance *x) {
+    while (part.at(x) != x) {
+      part.at(x) = part.at(part.at(x)); // path halving
+      x = part.at(x);
+    }
+    return x;
+  };
+  const auto joins = [&](const OverconstrainedGraph::Edge &e) {
     for (Instance *x : {e.a, e.b})
-      if (!next.count(x))
+      if (!next.count(x)) {
         nodes.push_back(x);
+        next[x];
+        part[x] = x;
+      }
+    Instance *ra = find(e.a), *rb = find(e.b);
+    if (ra == rb)
+      return false;
+    part[ra] = rb;
     next[e.a].emplace_back(e.b, e.range);
     next[e.b].emplace_back(e.a, e.range);
+    return true;
   };
   for (const auto &e : g.branches)
-    add(e);
+    if (!joins(e))
+      fail(DiagId::Unsupported, e.range,
+           "this Connections.branch closes a loop of branches ('" + e.a->flat + "' and '" + e.b->flat +
+               "' are joined by branches already); only a connection may close a loop (MLS 9.4.2)");
   for (const auto &e : g.connections)
-    add(e);
+    if (!joins(e))
+      g.broken.push_back(e);
   // Candidate roots in the order MLS 9.4.2 prefers them: definite roots,
   // then potential roots by priority (lowest first), in declaration order.
   std::vector<Instance *> candidates = g.roots;
@@ -198,10 +221,6 @@ void Flattener::close_connection_graph() {
           from[x] = nullptr; // the tree edge back, once (a double edge is a loop)
           continue;
         }
-        if (g.depth.count(y))
-          fail(DiagId::Unsupported, range,
-               "this connection closes a loop of overdetermined connectors ('" + x->flat + "' and '" + y->flat +
-                   "' are joined already); loops, which need equalityConstraint, are not supported");
         g.depth[y] = g.depth[x] + 1;
         from[y] = x;
         queue.push_back(y);
@@ -213,6 +232,56 @@ void Flattener::close_connection_graph() {
       fail(DiagId::UnbalancedModel, next[node].front().second,
            "'" + node->flat + "' is in a part of the connection graph without a root (Connections.root or "
            "potentialRoot)");
+}
+
+std::set<std::pair<std::int32_t, std::int32_t>> Flattener::broken_connection_pairs() {
+  std::set<std::pair<std::int32_t, std::int32_t>> out;
+  for (const auto &e : graph_.broken) {
+    std::vector<std::pair<Instance *, Instance *>> work{{e.a, e.b}};
+    while (!work.empty()) { // both records in step, as connect_pair walked them
+      auto [x, y] = work.back();
+      work.pop_back();
+      if (x->var >= 0 && y->var >= 0) {
+        out.insert({x->var, y->var});
+        out.insert({y->var, x->var});
+        continue;
+      }
+      for (std::size_t i = 0; i < x->elements.size() && i < y->elements.size(); ++i)
+        work.emplace_back(x->elements[i].get(), y->elements[i].get());
+      for (const auto &m : x->members)
+        if (Instance *other = y->member_index.count(m->name) ? y->member_index.at(m->name) : nullptr)
+          work.emplace_back(m.get(), other);
+    }
+  }
+  return out;
+}
+
+void Flattener::equality_constraints() {
+  for (const auto &e : graph_.broken) {
+    try {
+      ClassNode *fn = find_member_class(e.a->cls, "equalityConstraint");
+      if (!is_record_class(e.a->cls) || !e.a->dims.empty() || !fn)
+        fail(DiagId::Unsupported, e.range,
+             "this connection closes a loop of overdetermined connectors ('" + e.a->flat + "' and '" + e.b->flat +
+                 "'), whose type is not a record with an equalityConstraint function; not supported");
+      std::vector<Tensor> values;
+      values.push_back(record_value({e.a}, {}, e.range));
+      values.push_back(record_value({e.b}, {}, e.range));
+      const Expr site(ast::ExprKind::Call, e.range);
+      std::optional<Tensor> residue = apply_function(fn, std::move(values), site);
+      if (!residue || residue->record || residue->dims.size() != 1)
+        fail(DiagId::TypeMismatch, e.range,
+             "'" + fn->path() + "' does not take the two records of this connection to a vector of residues");
+      for (auto &r : residue->elems) {
+        ast::Equation eq;
+        eq.range = e.range;
+        eq.lhs = ast::make_real(0, e.range);
+        eq.rhs = std::move(r);
+        model_->equations.push_back(std::move(eq));
+      }
+    } catch (Reported &) {
+    }
+  }
 }
 
 bool Flattener::connections_query(const Expr &call, const Scope &s) {

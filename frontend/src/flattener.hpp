@@ -263,6 +263,9 @@ struct OverconstrainedGraph {
   std::vector<std::pair<Instance *, int>> potential;    ///< Connections.potentialRoot, priority
   std::vector<Edge> branches;                           ///< Connections.branch
   std::vector<Edge> connections;                        ///< connect() between overdetermined records
+  /// The connections that close a loop of the graph, once closed: their
+  /// equalityConstraint residues replace their equations (MLS 9.4.1).
+  std::vector<Edge> broken;
   std::unordered_set<Instance *> selected;              ///< the roots chosen, once closed
   std::unordered_map<Instance *, int> depth;            ///< distance from its root in the spanning tree
 };
@@ -646,8 +649,14 @@ public:
   /// Records the Connections statements of `eq`, through if-equations on
   /// parameters (the branch taken) and for-loops.
   void collect_graph_statements(const ast::Equation &eq, const Scope &s);
-  /// Chooses the roots and the spanning tree; reports loops and parts without a root.
+  /// Chooses the roots and the spanning tree, and the connections that close
+  /// loops (graph_.broken); reports loops of branches and parts without a root.
   void close_connection_graph();
+  /// The pairs of scalar variables (both orders) that the broken connections
+  /// join: finish_connections gives them no equations.
+  std::set<std::pair<std::int32_t, std::int32_t>> broken_connection_pairs();
+  /// 0 = equalityConstraint(A, B) for each broken connection (MLS 9.4.1).
+  void equality_constraints();
   /// Connections.isRoot(A) or rooted(A), from the closed graph.
   bool connections_query(const ast::Expr &call, const Scope &s);
   OverconstrainedGraph graph_;

@@ -329,3 +329,36 @@ end M;
   CHECK(printed.find("  `s.y.b` = `t.u.b`;\n") != std::string::npos);
   CHECK(printed.find("  `t.y.a` = `t.u.a` + `t.u.a`;\n") != std::string::npos);
 }
+
+TEST_CASE("a loop of Connections.branch alone is reported - only a connection may close a loop", "[flatten]") {
+  Compiled c = compile_text(R"(
+record Ref
+  Real theta;
+  function equalityConstraint
+    input Ref r1;
+    input Ref r2;
+    output Real residue[0];
+  algorithm
+  end equalityConstraint;
+end Ref;
+connector Pin
+  Real v;
+  flow Real i;
+  Ref reference;
+end Pin;
+model Twice "two branches between the same references"
+  Pin p(reference(theta = 0));
+  Pin n;
+equation
+  Connections.root(p.reference);
+  Connections.branch(p.reference, n.reference);
+  Connections.branch(n.reference, p.reference);
+  n.reference.theta = p.reference.theta;
+  p.i + n.i = 0;
+  p.v = n.v;
+end Twice;
+)");
+  CHECK_FALSE(c.ok());
+  CHECK(c.diagnostics.find("error: this Connections.branch closes a loop of branches ('n.reference' and "
+                           "'p.reference' are joined by branches already)") != std::string::npos);
+}
