@@ -159,11 +159,15 @@ void Flattener::close_connection_graph() {
   OverconstrainedGraph &g = graph_;
   if (g.roots.empty() && g.potential.empty() && g.branches.empty() && g.connections.empty())
     return;
-  // Adjacency of the spanning tree: branches, then the connections that
-  // join parts not joined yet (union-find); the others are broken.
+  // Adjacency of the spanning trees: branches, then the connections that
+  // join parts not joined yet (union-find); the others are broken. Each tree
+  // has one root (MLS 9.4.2): an edge between two parts that each hold a
+  // definite root is broken too (the MSL's QuasiStationary Transformer: a
+  // source on each side of the transformer's branches).
   std::unordered_map<Instance *, std::vector<std::pair<Instance *, SourceRange>>> next;
   std::vector<Instance *> nodes; // in order of first appearance: stable messages
   std::unordered_map<Instance *, Instance *> part;
+  std::unordered_set<Instance *> rooted_parts; // representatives of parts with a definite root
   const auto find = [&](Instance *x) {
     while (part.at(x) != x) {
       part.at(x) = part.at(part.at(x)); // path halving
@@ -179,18 +183,31 @@ void Flattener::close_connection_graph() {
         part[x] = x;
       }
     Instance *ra = find(e.a), *rb = find(e.b);
-    if (ra == rb)
+    if (ra == rb || (rooted_parts.count(ra) && rooted_parts.count(rb)))
       return false;
     part[ra] = rb;
+    if (rooted_parts.erase(ra))
+      rooted_parts.insert(rb);
     next[e.a].emplace_back(e.b, e.range);
     next[e.b].emplace_back(e.a, e.range);
     return true;
   };
+  for (Instance *root : g.roots)
+    if (!part.count(root)) {
+      nodes.push_back(root);
+      next[root];
+      part[root] = root;
+      rooted_parts.insert(root);
+    }
   for (const auto &e : g.branches)
     if (!joins(e))
       fail(DiagId::Unsupported, e.range,
-           "this Connections.branch closes a loop of branches ('" + e.a->flat + "' and '" + e.b->flat +
-               "' are joined by branches already); only a connection may close a loop (MLS 9.4.2)");
+           find(e.a) == find(e.b)
+               ? "this Connections.branch closes a loop of branches ('" + e.a->flat + "' and '" + e.b->flat +
+                     "' are joined by branches already); only a connection may close a loop (MLS 9.4.2)"
+               : "this Connections.branch joins two definite roots (Connections.root) of the connection graph ('" +
+                     e.a->flat + "' and '" + e.b->flat + "' are on their sides); only a connection may be broken "
+                     "between them (MLS 9.4.2)");
   for (const auto &e : g.connections)
     if (!joins(e))
       g.broken.push_back(e);

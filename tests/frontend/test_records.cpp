@@ -362,3 +362,48 @@ end Twice;
   CHECK(c.diagnostics.find("error: this Connections.branch closes a loop of branches ('n.reference' and "
                            "'p.reference' are joined by branches already)") != std::string::npos);
 }
+
+TEST_CASE("connections between two definite roots are broken - each tree has one root", "[flatten]") {
+  Compiled c = compile_text(R"(
+record Ref
+  Real theta;
+  function equalityConstraint
+    input Ref r1;
+    input Ref r2;
+    output Real residue[0];
+  algorithm
+  end equalityConstraint;
+end Ref;
+connector Pin
+  Real v;
+  flow Real i;
+  Ref reference;
+end Pin;
+model Source "a root of the graph, its two pins joined by a branch"
+  parameter Real w = 1;
+  Pin p;
+  Pin n;
+equation
+  Connections.root(p.reference);
+  Connections.branch(p.reference, n.reference);
+  p.reference.theta = w * time;
+  n.reference.theta = p.reference.theta;
+  p.i + n.i = 0;
+  p.v - n.v = 1;
+end Source;
+model Sink "a second root, joined to the first by two connections"
+  Source a;
+  Source b(w = 2);
+equation
+  connect(a.p, b.p);
+  connect(a.n, b.n);
+end Sink;
+)");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string printed = c.model->print();
+  INFO(printed);
+  CHECK(printed.find("`a.p.reference.theta` = `b.p.reference.theta`") == std::string::npos);
+  CHECK(printed.find("`a.n.reference.theta` = `b.n.reference.theta`") == std::string::npos);
+  CHECK(printed.find("  `a.p.v` = `b.p.v`;\n") != std::string::npos);
+}
