@@ -282,8 +282,31 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
 
 void Flattener::instantiate_member(Instance &inst, const ast::Component &c, ClassNode *cls, const Modifier &mod,
                                    unsigned depth) {
+  const auto modified = [&] {
+    auto it = mod.sub.find(c.name);
+    return it != mod.sub.end() && it->second.binding;
+  };
+  // The record's binding gives each field its value, over the field's own
+  // default; a modifier of the field itself (`coreParameters(final m = 1)`
+  // with `coreParameters = data.coreParameters` from outside) is more
+  // specific and wins.
+  const bool record_binding = mod.binding && is_record_instance(inst) && !modified();
+  const auto bind_field = [&](Modifier &field) {
+    field.binding = mod.binding;
+    field.scope = mod.scope;
+    field.lexical = mod.lexical;
+    field.index = mod.index;
+    field.fields = mod.fields;
+    field.fields.emplace_back(c.name, std::vector<int>{});
+    field.each = false;
+  };
   if (auto it = mod.sub.find(c.name); it != mod.sub.end() && it->second.redecl_component) {
-    instantiate_redeclared(inst, c, cls, it->second, depth);
+    // A field the record's type redeclares (SIunits.ComplexVoltage's `re`)
+    // takes its part of the record's binding all the same.
+    Modifier redeclared = it->second;
+    if (record_binding)
+      bind_field(redeclared);
+    instantiate_redeclared(inst, c, cls, redeclared, depth);
     return;
   }
   Modifier cmod = make_modifier(c.mod, &inst, cls);
@@ -298,23 +321,8 @@ void Flattener::instantiate_member(Instance &inst, const ast::Component &c, Clas
   // `SineVoltage s(each V = fill(v, m))`); the member splits its own binding
   // over its own dimensions.
   cmod.each = false;
-  const auto modified = [&] {
-    auto it = mod.sub.find(c.name);
-    return it != mod.sub.end() && it->second.binding;
-  };
-  if (mod.binding && is_record_instance(inst) && !modified()) {
-    // The record's binding gives each field its value, over the field's own
-    // default; a modifier of the field itself (`coreParameters(final m = 1)`
-    // with `coreParameters = data.coreParameters` from outside) is more
-    // specific and wins.
-    cmod.binding = mod.binding;
-    cmod.scope = mod.scope;
-    cmod.lexical = mod.lexical;
-    cmod.index = mod.index;
-    cmod.fields = mod.fields;
-    cmod.fields.emplace_back(c.name, std::vector<int>{});
-    cmod.each = false;
-  }
+  if (record_binding)
+    bind_field(cmod);
   instantiate_component(inst, c, cls, std::move(cmod), depth);
 }
 

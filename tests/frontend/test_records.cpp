@@ -407,3 +407,30 @@ end Sink;
   CHECK(printed.find("`a.n.reference.theta` = `b.n.reference.theta`") == std::string::npos);
   CHECK(printed.find("  `a.p.v` = `b.p.v`;\n") != std::string::npos);
 }
+
+// SIunits.ComplexVoltage is `operator record ComplexVoltage = Complex(redeclare
+// Voltage re, redeclare Voltage im)`: a field the short class redeclares takes
+// its part of the record's binding like any other.
+TEST_CASE("a record binding binds the fields its type redeclares", "[flatten][records]") {
+  Compiled c = compile({{"Dual.mo", kDual}, {"M.mo", R"(
+type Length = Real(unit = "m");
+record Pair
+  replaceable Real a;
+  replaceable Real b;
+end Pair;
+record LengthPair = Pair(redeclare Length a, redeclare Length b);
+model M
+  LengthPair p = Pair(time, 2);
+  Pair q = p;
+end M;
+)"}},
+                       "M");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string printed = c.model->print();
+  INFO(printed);
+  CHECK(printed.find("  Real `p.a`(unit = \"m\");\n") != std::string::npos);
+  CHECK(printed.find("  `p.a` = time;\n") != std::string::npos);
+  CHECK(printed.find("  `p.b` = 2;\n") != std::string::npos);
+  CHECK(printed.find("  `q.a` = `p.a`;\n") != std::string::npos);
+}
