@@ -1222,8 +1222,9 @@ std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &si
 
 /// The dimensions D over which a call is vectorized (MLS 12.4.6): arguments
 /// that have more dimensions than their input's declaration, D in front
-/// (the same D for all of them), the others as declared. Empty when no
-/// argument has more, or when an input is a record; `sliced` marks the
+/// (the same D for all of them), the others as declared; an element is a
+/// number or a record as the input declares. Empty when no argument has
+/// more, or when such an input is neither; `sliced` marks the
 /// arguments that have them. Only the declared number of dimensions is
 /// compared here; their sizes are checked per call.
 std::vector<int> vectorized_dims(Flattener &f, const Signature &sig, const std::vector<bool> &given,
@@ -1232,11 +1233,11 @@ std::vector<int> vectorized_dims(Flattener &f, const Signature &sig, const std::
   sliced.assign(sig.inputs.size(), false);
   for (std::size_t i = 0; i < sig.inputs.size(); ++i) {
     const auto &[c, owner] = sig.inputs[i];
-    if (!given[i] || arguments[i].record || arguments[i].dims.size() <= c->dims.size())
+    if (!given[i] || arguments[i].dims.size() <= c->dims.size())
       continue; // not beyond its declaration (the common case: no type to resolve)
     ResolvedType rt;
-    if (!f.resolve_type(owner, c->type, rt) || !rt.is_builtin)
-      return {};
+    if (!f.resolve_type(owner, c->type, rt) || (!rt.is_builtin && !(rt.cls && is_record_class(rt.cls))))
+      return {}; // a number or a record per element (ComplexMath.'abs' of a vector of Complex)
     const std::size_t declared = c->dims.size() + rt.dims.size();
     const std::vector<int> &dims = arguments[i].dims;
     if (dims.size() <= declared)
@@ -1417,15 +1418,16 @@ Tensor Flattener::call_elementwise(ClassNode *fn, const Signature &sig, const st
         continue;
       }
       element[i].dims.assign(a.dims.begin() + static_cast<long>(over.size()), a.dims.end());
+      element[i].record = a.record;
       const std::size_t stride = a.elems.size() / count;
       for (std::size_t j = 0; j < stride; ++j)
         element[i].elems.push_back(a.elems[k * stride + j]->clone());
     }
     Tensor r = std::move(inline_or_evaluate(fn, sig, given, std::move(element), call, 1).front());
-    if (r.record)
-      fail(DiagId::Unsupported, call.range, "a vectorized call of '" + fn->path() + "' returns records");
     if (k == 0)
-      out.dims = over, out.dims.insert(out.dims.end(), r.dims.begin(), r.dims.end());
+      out.dims = over, out.dims.insert(out.dims.end(), r.dims.begin(), r.dims.end()), out.record = r.record;
+    else if (!same_record_type(out.record, r.record))
+      fail(DiagId::TypeMismatch, call.range, "the calls of a vectorized '" + fn->path() + "' return different types");
     for (auto &e : r.elems)
       out.elems.push_back(std::move(e));
   }
