@@ -146,9 +146,11 @@ Tensor Flattener::comprehension(const Expr &body, const std::vector<ast::ForInde
     }
     Tensor t = expr(body, inner);
     if (flat == 0)
-      body_dims = t.dims;
+      body_dims = t.dims, out.record = t.record; // {u[k] for k in 1:n} of records: an array of records
     else if (t.dims != body_dims)
       fail(DiagId::TypeMismatch, where, "the elements of this array have different sizes");
+    else if (!same_record_type(t.record, out.record))
+      fail(DiagId::TypeMismatch, where, "the elements of this array are records of different types");
     for (auto &x : t.elems)
       out.elems.push_back(std::move(x));
   }

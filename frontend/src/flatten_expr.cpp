@@ -751,8 +751,7 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
         Tensor a = expr(*e.args[0], s);
         sizes.push_back(static_cast<long long>(a.elems.size()));
         element_count(sizes, e.range, "fill()");
-        if (a.record)
-          fail(DiagId::Unsupported, e.args[0]->range, "fill() of a record is not supported");
+        t.record = a.record; // fill(Complex(0), m): an array of records
         t.dims.insert(t.dims.end(), a.dims.begin(), a.dims.end());
         for (std::size_t i = 0; i < total; ++i)
           for (const ExprPtr &x : a.elems)
