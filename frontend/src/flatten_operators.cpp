@@ -9,11 +9,14 @@
 //     (records of its inputs' classes, numbers, dimensions) is called;
 //   - else a number operand beside the record is converted by the record's
 //     'constructor' (Complex(2)) and the functions are tried again.
-// Element-wise operators on arrays of records and the '0' operator (sum of
-// records) are not supported: they are reported.
+//   - else, `+` and `-` of arrays of one size, `*` and `/` of an array by a
+//     scalar and `-a` apply to each element (MLS 10.6).
+// The '0' operator (sum of records) is not supported: it is reported.
 #include "flattener.hpp"
 
 #include <fmt/format.h>
+
+#include <algorithm>
 
 namespace mo::frontend::detail {
 
@@ -122,6 +125,8 @@ Tensor Flattener::overloaded_operator(Op op, std::vector<Tensor> operands, const
       }
     }
   }
+  if (std::optional<Tensor> r = overloaded_elementwise(op, operands, site))
+    return std::move(*r);
   std::string kinds;
   for (const Tensor &t : operands) {
     const std::string kind = t.record ? t.record->cls->path() : t.dims.empty() ? "a number" : "an array";
@@ -130,6 +135,50 @@ Tensor Flattener::overloaded_operator(Op op, std::vector<Tensor> operands, const
   fail(DiagId::TypeMismatch, site.range,
        fmt::format("no function of operator {} of '{}' takes {}{}", name, record->path(), kinds,
                    functions.empty() ? " (the record defines no such operator)" : ""));
+}
+
+std::optional<Tensor> Flattener::overloaded_elementwise(Op op, const std::vector<Tensor> &operands, const Expr &site) {
+  // MLS 10.6 for operator records: `+`, `-` of arrays of one size and
+  // `*`, `/` of an array by a scalar apply to each element; `-a` too.
+  const Tensor *array = nullptr;
+  for (const Tensor &t : operands)
+    if (!t.dims.empty()) {
+      if (array && t.dims != array->dims)
+        return std::nullopt;
+      array = &t;
+    }
+  const bool all_arrays = std::all_of(operands.begin(), operands.end(), [](const Tensor &t) { return !t.dims.empty(); });
+  const bool any_size = (op == Op::Add || op == Op::Sub || op == Op::Neg) && all_arrays;
+  const bool by_scalar = (op == Op::Mul || op == Op::Div) && operands.size() == 2 &&
+                         (operands[0].dims.empty() || operands[1].dims.empty());
+  if (!array || !(any_size || by_scalar))
+    return std::nullopt;
+  std::size_t count = 1;
+  for (int d : array->dims)
+    count *= static_cast<std::size_t>(d);
+  Tensor out;
+  out.dims = array->dims;
+  for (std::size_t k = 0; k < count; ++k) {
+    std::vector<Tensor> element;
+    for (const Tensor &t : operands) {
+      Tensor x;
+      x.record = t.record;
+      const std::size_t stride = t.dims.empty() ? t.elems.size() : t.elems.size() / count;
+      const std::size_t first = t.dims.empty() ? 0 : k * stride;
+      for (std::size_t j = 0; j < stride; ++j)
+        x.elems.push_back(t.elems[first + j]->clone());
+      element.push_back(std::move(x));
+    }
+    Tensor r = element[0].record || (element.size() == 2 && element[1].record)
+                   ? overloaded_operator(op, std::move(element), site)
+                   : Tensor{};
+    if (!r.dims.empty() || (k > 0 && !same_record_type(r.record, out.record)))
+      return std::nullopt;
+    out.record = r.record;
+    for (auto &e : r.elems)
+      out.elems.push_back(std::move(e));
+  }
+  return out;
 }
 
 std::optional<Tensor> Flattener::overloaded_constructor(ClassNode *record, const Expr &call, const Scope &s) {

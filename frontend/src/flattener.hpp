@@ -496,6 +496,9 @@ public:
   /// converted by that record's 'constructor' (MLS 14.4). Reports when no
   /// operand is an operator record or no function takes the operands.
   Tensor overloaded_operator(ast::Op op, std::vector<Tensor> operands, const ast::Expr &site);
+  /// overloaded_operator per element of array operands (MLS 10.6), or
+  /// nullopt where the operator or the sizes do not allow it.
+  std::optional<Tensor> overloaded_elementwise(ast::Op op, const std::vector<Tensor> &operands, const ast::Expr &site);
   /// overloaded_operator for unary `e` and binary `e` (flatten_expr.cpp).
   Tensor unary_on_record(const ast::Expr &e, Tensor a);
   Tensor binary_on_records(const ast::Expr &e, Tensor a, Tensor b);

@@ -287,14 +287,14 @@ TEST_CASE("operator records: an operator the record does not define is reported"
 model M
   Dual x = Dual(time, 1);
   Dual q = x / x;
-  Dual r = x * {1, 2};
+  Dual r = x + {1, 2};
 end M;
 )"}},
                        "M");
   CHECK_FALSE(c.ok());
   CHECK(c.diagnostics.find("M.mo:4:12: error: no function of operator '/' of 'Dual' takes Dual and Dual (the record "
                            "defines no such operator)") != std::string::npos);
-  CHECK(c.diagnostics.find("M.mo:5:12: error: no function of operator '*' of 'Dual' takes Dual and an array")
+  CHECK(c.diagnostics.find("M.mo:5:12: error: no function of operator '+' of 'Dual' takes Dual and an array")
         != std::string::npos);
 }
 
@@ -433,4 +433,34 @@ end M;
   CHECK(printed.find("  `p.a` = time;\n") != std::string::npos);
   CHECK(printed.find("  `p.b` = 2;\n") != std::string::npos);
   CHECK(printed.find("  `q.a` = `p.a`;\n") != std::string::npos);
+}
+
+TEST_CASE("arrays of operator records - element-wise operators and vectorized calls and fill",
+          "[flatten][records]") {
+  Compiled c = compile({{"Dual.mo", kDual}, {"M.mo", R"(
+function real
+  input Dual x;
+  output Real y = x.a;
+algorithm
+end real;
+model M
+  parameter Boolean flip[2] = {false, true};
+  Dual d[2] = {Dual(time, 1), Dual(2, time)};
+  Dual s[2] = d + d;
+  Dual t[2] = 2 * d;
+  Dual n[2] = -d;
+  Dual z[2] = fill(Dual(0), 2);
+  Dual w[2] = {if flip[k] then -d[k] else d[k] for k in 1:2};
+  Real r[2] = real(d);
+end M;
+)"}},
+                       "M");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string printed = c.model->print();
+  INFO(printed);
+  for (const char *eq : {"  `s[2].a` = `d[2].a` + `d[2].a`;\n", "  `t[1].b` = 2 * `d[1].b` + 0 * `d[1].a`;\n",
+                         "  `n[2].b` = -`d[2].b`;\n", "  `z[2].a` = 0;\n", "  `z[1].b` = 0;\n",
+                         "  `w[2].a` = if `flip[2]` then -`d[2].a` else `d[2].a`;\n", "  `r[2]` = `d[2].a`;\n"})
+    CHECK(printed.find(eq) != std::string::npos);
 }
