@@ -7,11 +7,12 @@
 // if-equations on parameters and for-loops; the graph is closed before the
 // other equations, which read it (and skip the statements).
 //
-// The spanning tree takes every branch (a required edge, MLS 9.4.2), then the
-// connections that join parts it does not join yet. A connection that closes
-// a loop is broken: finish_connections gives it the equalityConstraint
-// residues of its two records instead of their equations (MLS 9.4.1). A loop
-// of branches alone is an error.
+// The spanning trees take every branch (a required edge, MLS 9.4.2), then the
+// connections that join parts not joined yet; each tree has one definite
+// root. A connection that closes a loop, or that would join two parts with a
+// definite root each, is broken: finish_connections gives it the
+// equalityConstraint residues of its two records instead of their equations
+// (MLS 9.4.1). A branch that would do either is an error.
 #include "flattener.hpp"
 
 #include <deque>
@@ -279,8 +280,9 @@ void Flattener::equality_constraints() {
       ClassNode *fn = find_member_class(e.a->cls, "equalityConstraint");
       if (!is_record_class(e.a->cls) || !e.a->dims.empty() || !fn)
         fail(DiagId::Unsupported, e.range,
-             "this connection closes a loop of overdetermined connectors ('" + e.a->flat + "' and '" + e.b->flat +
-                 "'), whose type is not a record with an equalityConstraint function; not supported");
+             "this connection of overdetermined connectors ('" + e.a->flat + "' and '" + e.b->flat +
+                 "') closes a loop or joins two roots, and their type is not a record with an "
+                 "equalityConstraint function: not supported");
       std::vector<Tensor> values;
       values.push_back(record_value({e.a}, {}, e.range));
       values.push_back(record_value({e.b}, {}, e.range));
