@@ -263,7 +263,8 @@ struct OverconstrainedGraph {
   std::vector<std::pair<Instance *, int>> potential;    ///< Connections.potentialRoot, priority
   std::vector<Edge> branches;                           ///< Connections.branch
   std::vector<Edge> connections;                        ///< connect() between overdetermined records
-  /// The connections that close a loop of the graph, once closed: their
+  /// The connections broken once the graph is closed (they close a loop, or
+  /// would join two parts with a definite root each): their
   /// equalityConstraint residues replace their equations (MLS 9.4.1).
   std::vector<Edge> broken;
   std::unordered_set<Instance *> selected;              ///< the roots chosen, once closed
@@ -652,8 +653,9 @@ public:
   /// Records the Connections statements of `eq`, through if-equations on
   /// parameters (the branch taken) and for-loops.
   void collect_graph_statements(const ast::Equation &eq, const Scope &s);
-  /// Chooses the roots and the spanning tree, and the connections that close
-  /// loops (graph_.broken); reports loops of branches and parts without a root.
+  /// Chooses the roots and the spanning trees, and the connections to break
+  /// (graph_.broken); reports branches that close a loop or join two definite
+  /// roots, and parts without a root.
   void close_connection_graph();
   /// The pairs of scalar variables (both orders) that the broken connections
   /// join: finish_connections gives them no equations.
