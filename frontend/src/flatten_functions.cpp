@@ -44,15 +44,6 @@ constexpr long kMaxWhileIterations = 100'000;
 /// Varying conditions met on one way through a function's algorithm.
 constexpr std::size_t kMaxDecisions = 128;
 
-Tensor clone_tensor(const Tensor &t) {
-  Tensor out;
-  out.dims = t.dims;
-  out.record = t.record;
-  for (const auto &e : t.elems)
-    out.elems.push_back(e ? e->clone() : nullptr);
-  return out;
-}
-
 FunctionLocals clone_locals(const FunctionLocals &values) {
   FunctionLocals out;
   for (const auto &[name, t] : values)
@@ -1365,6 +1356,15 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
     return out;
   }
   return inline_or_evaluate(fn, sig, given, std::move(arguments), call, wanted);
+}
+
+Tensor clone_tensor(const Tensor &t) {
+  Tensor out;
+  out.dims = t.dims;
+  out.record = t.record;
+  for (const auto &e : t.elems)
+    out.elems.push_back(e ? e->clone() : nullptr);
+  return out;
 }
 
 std::optional<Tensor> Flattener::apply_function(ClassNode *fn, std::vector<Tensor> values, const Expr &site) {

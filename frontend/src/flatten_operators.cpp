@@ -48,19 +48,10 @@ std::string operator_name(Op op, bool unary) {
   }
 }
 
-Tensor copy(const Tensor &t) {
-  Tensor out;
-  out.dims = t.dims;
-  out.record = t.record;
-  for (const auto &e : t.elems)
-    out.elems.push_back(e ? e->clone() : nullptr);
-  return out;
-}
-
 std::vector<Tensor> copies(const std::vector<Tensor> &ts) {
   std::vector<Tensor> out;
   for (const Tensor &t : ts)
-    out.push_back(copy(t));
+    out.push_back(clone_tensor(t));
   return out;
 }
 
@@ -114,7 +105,7 @@ Tensor Flattener::overloaded_operator(Op op, std::vector<Tensor> operands, const
         continue;
       for (ClassNode *ctor : operator_functions(record, "'constructor'")) {
         std::vector<Tensor> one;
-        one.push_back(copy(operands[k]));
+        one.push_back(clone_tensor(operands[k]));
         if (auto converted = apply_function(ctor, std::move(one), site)) {
           std::vector<Tensor> values = copies(operands);
           values[k] = std::move(*converted);

@@ -178,6 +178,9 @@ struct Tensor {
   }
 };
 
+/// A deep copy of `t` (its expressions cloned, its record layout shared).
+Tensor clone_tensor(const Tensor &t);
+
 /// True for a `record` or `operator record` class.
 bool is_record_class(const ClassNode *cls);
 /// True for a (scalar) instance of a record class.
