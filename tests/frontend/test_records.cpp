@@ -330,8 +330,11 @@ end M;
   CHECK(printed.find("  `t.y.a` = `t.u.a` + `t.u.a`;\n") != std::string::npos);
 }
 
-TEST_CASE("a loop of Connections.branch alone is reported - only a connection may close a loop", "[flatten]") {
-  Compiled c = compile_text(R"(
+namespace {
+
+/// A pin with an overdetermined reference angle, as QuasiStationary's: its
+/// equalityConstraint has no residue.
+const char *kRefPin = R"(
 record Ref
   Real theta;
   function equalityConstraint
@@ -346,6 +349,12 @@ connector Pin
   flow Real i;
   Ref reference;
 end Pin;
+)";
+
+} // namespace
+
+TEST_CASE("a loop of Connections.branch alone is reported - only a connection may close a loop", "[flatten]") {
+  Compiled c = compile({{"RefPin.mo", kRefPin}, {"M.mo", R"(
 model Twice "two branches between the same references"
   Pin p(reference(theta = 0));
   Pin n;
@@ -357,28 +366,15 @@ equation
   p.i + n.i = 0;
   p.v = n.v;
 end Twice;
-)");
+)"}},
+                       "Twice");
   CHECK_FALSE(c.ok());
   CHECK(c.diagnostics.find("error: this Connections.branch closes a loop of branches ('n.reference' and "
                            "'p.reference' are joined by branches already)") != std::string::npos);
 }
 
 TEST_CASE("connections between two definite roots are broken - each tree has one root", "[flatten]") {
-  Compiled c = compile_text(R"(
-record Ref
-  Real theta;
-  function equalityConstraint
-    input Ref r1;
-    input Ref r2;
-    output Real residue[0];
-  algorithm
-  end equalityConstraint;
-end Ref;
-connector Pin
-  Real v;
-  flow Real i;
-  Ref reference;
-end Pin;
+  Compiled c = compile({{"RefPin.mo", kRefPin}, {"M.mo", R"(
 model Source "a root of the graph, its two pins joined by a branch"
   parameter Real w = 1;
   Pin p;
@@ -398,7 +394,8 @@ equation
   connect(a.p, b.p);
   connect(a.n, b.n);
 end Sink;
-)");
+)"}},
+                       "Sink");
   INFO(c.diagnostics);
   REQUIRE(c.ok());
   const std::string printed = c.model->print();
