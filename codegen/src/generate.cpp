@@ -68,8 +68,15 @@ std::string info_tables(const OdeModel& m, const Program& p) {
     return fmt::format("{}, {}, {}", cpp_double(q.value), cpp_double(q.info.min), cpp_double(q.info.max));
   });
   std::vector<double> dstart;
-  for (const auto& d : m.discrete) dstart.push_back(d.start);
+  std::vector<std::string> dsens;  // this index, discrete, parameter
+  for (std::size_t i = 0; i < m.discrete.size(); ++i) {
+    dstart.push_back(m.discrete[i].start);
+    if (const auto& s = m.discrete[i].sensitivity)
+      dsens.push_back(fmt::format("{}, {}, {}", i, s->discrete, s->parameter));
+  }
   out += array("double", "discrete_start", dstart, [](double v) { return cpp_double(v); });
+  out += fmt::format("constexpr std::size_t ndsens = {};\n", dsens.size());
+  out += array("long", "discrete_sensitivity", dsens, [](const std::string& s) { return s; });
   return out;
 }
 
@@ -106,6 +113,10 @@ constexpr const char* info_builder = R"(mo::runtime::ModelInfo build_info() {
   }
   for (std::size_t i = 0; i < nd; ++i)
     info.discrete.push_back(variable(discrete_names[i], discrete_descriptions[i], discrete_units[i]));
+  for (std::size_t i = 0; i < ndsens; ++i)
+    info.discrete_sensitivities.push_back({static_cast<std::size_t>(discrete_sensitivity[3 * i]),
+                                           static_cast<std::size_t>(discrete_sensitivity[3 * i + 1]),
+                                           static_cast<std::size_t>(discrete_sensitivity[3 * i + 2])});
   info.num_event_indicators = ng;
   for (std::size_t i = 0; i < ng; ++i) info.indicator_in_rhs.push_back(indicator_in_rhs[i] != 0);
   for (std::size_t i = 0; i < nu; ++i) info.input_in_initial.push_back(input_in_initial[i] != 0);
@@ -326,6 +337,7 @@ std::string event_tangent_tables(const Program& p) {
   out += array("SectionFunction", "when_tangent_sections", sections, [](const std::string& s) { return s; });
   out += slot_array("event_seed_x", e.seed_x);
   out += slot_array("event_seed_p", e.seed_p);
+  out += array("int", "event_seed_d", e.seed_d, [](int x) { return std::to_string(x); });
   out += slot_array("indicator_tangent_slots", e.indicator_slots);
   out += slot_array("assign_tangent_slots", e.assign_slots);
   out += slot_array("reinit_tangent_slots", e.reinit_slots);

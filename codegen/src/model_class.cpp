@@ -336,13 +336,13 @@ public:
 
   void event_indicator_tangent(double t, std::span<const double> x, std::span<const double> u,
                                std::span<const double> p, std::span<const int> relations_from,
-                               std::span<const double> dx, std::span<const double> dp, double dt,
-                               std::span<double> dg) override {
-    if (event_rhs_section < 0) return mo::runtime::Model::event_indicator_tangent(t, x, u, p, relations_from, dx, dp, dt, dg);
+                               std::span<const double> dx, std::span<const double> dp,
+                               std::span<const double> dd, double dt, std::span<double> dg) override {
+    if (event_rhs_section < 0) return mo::runtime::Model::event_indicator_tangent(t, x, u, p, relations_from, dx, dp, dd, dt, dg);
     load(t, x, u, p);
     set_relations(relations_from);
     run(event_rhs_section, relations_.data());
-    seed_event(dx, dp, dt);
+    seed_event(dx, dp, dd, dt);
     run(event_tangent_section, relations_.data());
     for (std::size_t i = 0; i < ng; ++i) dg[i] = w_[static_cast<std::size_t>(indicator_tangent_slots[i])];
   }
@@ -369,22 +369,21 @@ public:
     for (std::size_t i = 0; i < nd; ++i) w_[d_slot + i] = w_[pre_d_slot + i];
     std::fill(relations_.begin(), relations_.end(), 0);
     run(event_rhs_section, relations_.data());
-    double* w = w_.data();
-    for (mo::runtime::EventTangent& dir : directions) {
-      seed_event(dir.x, dir.p, dir.t);
-      run(event_tangent_section, relations_.data());
-      for (std::size_t k = 0; k < nwhen; ++k) {
-        if (!fired_[k]) continue;
-        when_tangent_sections[k](w, relations_.data(), ws_);
-        for (int a = when_assign_start[k]; a < when_assign_start[k + 1]; ++a)
-          if (w[assign_tangent_slots[a]] != 0.0 && unsupported.empty())
-            unsupported = info().discrete[static_cast<std::size_t>(when_assign_target[a]) - d_slot].name;
-        for (int r = when_reinit_start[k]; r < when_reinit_start[k + 1]; ++r)
-          dir.x[static_cast<std::size_t>(when_reinit_state[r])] = w[reinit_tangent_slots[r]];
-      }
-    }
+    for (mo::runtime::EventTangent& dir : directions) when_tangents(fired_, dir, unsupported);
     std::copy(d_after.begin(), d_after.end(), w_.begin() + d_slot);
     return response;
+  }
+
+  // The clauses that fired at initialisation, at the state initial_state()
+  // left (initial() false again, relations as they are).
+  void initial_event_tangent(double t0, std::span<const double> x, std::span<const double> u,
+                             std::span<const double> p, std::span<mo::runtime::EventTangent> directions,
+                             std::string& unsupported) override {
+    if (event_rhs_section < 0 || std::find(init_fired_.begin(), init_fired_.end(), 1) == init_fired_.end()) return;
+    load(t0, x, u, p);
+    std::fill(relations_.begin(), relations_.end(), 0);
+    run(event_rhs_section, relations_.data());
+    for (mo::runtime::EventTangent& dir : directions) when_tangents(init_fired_, dir, unsupported);
   }
 
   std::span<double> discrete() override { return {w_.data() + d_slot, nd}; }
@@ -667,10 +666,37 @@ private:
   void set_relations(std::span<const int> from) {
     for (std::size_t i = 0; i < ng; ++i) relations_[i] = i < from.size() ? from[i] : 0;
   }
-  void seed_event(std::span<const double> dx, std::span<const double> dp, double dt) {
+  void seed_event(std::span<const double> dx, std::span<const double> dp, std::span<const double> dd,
+                  double dt) {
     for (std::size_t i = 0; i < nx; ++i) w_[static_cast<std::size_t>(event_seed_x[i])] = dx[i];
     for (std::size_t i = 0; i < np; ++i) w_[static_cast<std::size_t>(event_seed_p[i])] = dp[i];
+    for (std::size_t i = 0; i < nd; ++i)
+      if (event_seed_d[i] >= 0) w_[static_cast<std::size_t>(event_seed_d[i])] = dd.empty() ? 0.0 : dd[i];
     w_[event_seed_t] = dt;
+  }
+  // One direction through the clauses with fired[k], in order, at the point
+  // event_rhs_section computed: a reinit's δx and, for a discrete variable
+  // with discrete sensitivities, an assignment's δd take the tangent; any
+  // other assignment with a nonzero tangent is named in `unsupported`. Later
+  // clauses see δd as it was when the call started (as the replay sees d).
+  void when_tangents(const std::vector<char>& fired, mo::runtime::EventTangent& dir, std::string& unsupported) {
+    double* w = w_.data();
+    seed_event(dir.x, dir.p, dir.d, dir.t);
+    run(event_tangent_section, relations_.data());
+    for (std::size_t k = 0; k < nwhen; ++k) {
+      if (!fired[k]) continue;
+      when_tangent_sections[k](w, relations_.data(), ws_);
+      for (int a = when_assign_start[k]; a < when_assign_start[k + 1]; ++a) {
+        const std::size_t i = static_cast<std::size_t>(when_assign_target[a]) - d_slot;
+        const double value = w[assign_tangent_slots[a]];
+        if (event_seed_d[i] >= 0 && !dir.d.empty())
+          dir.d[i] = value;
+        else if (value != 0.0 && unsupported.empty())
+          unsupported = info().discrete[i].name;
+      }
+      for (int r = when_reinit_start[k]; r < when_reinit_start[k + 1]; ++r)
+        dir.x[static_cast<std::size_t>(when_reinit_state[r])] = w[reinit_tangent_slots[r]];
+    }
   }
 
   // The products of Hessian k for the wanted columns of its last call.

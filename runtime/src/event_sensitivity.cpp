@@ -19,13 +19,47 @@ int steepest(std::span<const int> crossings, const std::vector<double>& slope) {
   return best;
 }
 
+/// δd per direction: the model's discrete sensitivities of params[j]; empty
+/// rows when the model has none.
+std::vector<std::vector<double>> discrete_seeds(Model& model, std::span<const int> params) {
+  const auto& sens = model.info().discrete_sensitivities;
+  std::vector<std::vector<double>> dd(params.size());
+  if (sens.empty()) return dd;
+  const std::span<double> d = model.discrete();
+  for (std::size_t j = 0; j < params.size(); ++j) {
+    dd[j].assign(d.size(), 0.0);
+    for (const DiscreteSensitivity& c : sens)
+      if (c.parameter == static_cast<std::size_t>(params[j])) dd[j][c.discrete] = d[c.index];
+  }
+  return dd;
+}
+
+/// Writes dd back into the model's discrete sensitivities.
+void write_discrete(Model& model, std::span<const int> params,
+                    const std::vector<std::vector<double>>& dd) {
+  const auto& sens = model.info().discrete_sensitivities;
+  const std::span<double> d = model.discrete();
+  for (std::size_t j = 0; j < params.size() && !dd[j].empty(); ++j)
+    for (const DiscreteSensitivity& c : sens)
+      if (c.parameter == static_cast<std::size_t>(params[j])) d[c.index] = dd[j][c.discrete];
+}
+
+/// A discrete variable with a nonzero δd in some direction, or empty.
+std::string first_moved(const Model& model, const std::vector<std::vector<double>>& dd) {
+  for (const auto& row : dd)
+    for (std::size_t i = 0; i < row.size(); ++i)
+      if (row[i] != 0.0) return model.info().discrete[i].name;
+  return {};
+}
+
 }  // namespace
 
 SensitivityJump::SensitivityJump(Model& model, double t, std::span<const double> x,
                                  std::span<const double> u, std::span<const double> p,
                                  std::span<const int> crossings, const Eigen::MatrixXd& s,
                                  std::span<const int> params)
-    : model_(model), crossings_(crossings.begin(), crossings.end()), rows_(s.rows()) {
+    : model_(model), crossings_(crossings.begin(), crossings.end()), rows_(s.rows()),
+      params_(params.begin(), params.end()), dd_(discrete_seeds(model, params)) {
   const std::size_t nx = x.size(), np = p.size();
   const std::size_t ng = model.info().num_event_indicators;
   const auto ns = static_cast<std::size_t>(s.cols());
@@ -36,7 +70,7 @@ SensitivityJump::SensitivityJump(Model& model, double t, std::span<const double>
   model.rhs_at_event(t, x, u, p, before, f_before);
   int g = -1;
   if (!crossings.empty() && ng > 0) {
-    model.event_indicator_tangent(t, x, u, p, before, f_before, zero_p, 1.0, slope);
+    model.event_indicator_tangent(t, x, u, p, before, f_before, zero_p, {}, 1.0, slope);
     g = steepest(crossings, slope);
   }
   dx_.assign(ns, std::vector<double>(nx, 0.0));
@@ -47,7 +81,7 @@ SensitivityJump::SensitivityJump(Model& model, double t, std::span<const double>
       dx_[j][static_cast<std::size_t>(i)] = s(i, static_cast<Eigen::Index>(j));
     dp_[j][static_cast<std::size_t>(params[j])] = 1.0;
     if (g < 0) continue;
-    model.event_indicator_tangent(t, x, u, p, before, dx_[j], dp_[j], 0.0, dg);
+    model.event_indicator_tangent(t, x, u, p, before, dx_[j], dp_[j], dd_[j], 0.0, dg);
     tau_[j] = -dg[static_cast<std::size_t>(g)] / slope[static_cast<std::size_t>(g)];
     for (std::size_t i = 0; i < static_cast<std::size_t>(rows_); ++i)
       dx_[j][i] += f_before[i] * tau_[j];
@@ -58,7 +92,7 @@ EventResponse SensitivityJump::handle(const EventCause& cause, std::span<double>
                                       std::span<const double> u, std::span<const double> p) {
   std::vector<EventTangent> directions;
   directions.reserve(dx_.size());
-  for (std::size_t j = 0; j < dx_.size(); ++j) directions.push_back({dx_[j], dp_[j], tau_[j]});
+  for (std::size_t j = 0; j < dx_.size(); ++j) directions.push_back({dx_[j], dp_[j], tau_[j], dd_[j]});
   return model_.handle_event_tangent(cause, x, u, p, directions, unsupported_);
 }
 
@@ -72,6 +106,32 @@ Eigen::MatrixXd SensitivityJump::finish(double t, std::span<const double> x,
       s(i, static_cast<Eigen::Index>(j)) =
           dx_[j][static_cast<std::size_t>(i)] - f_after[static_cast<std::size_t>(i)] * tau_[j];
   return s;
+}
+
+void SensitivityJump::finish_discrete() { write_discrete(model_, params_, dd_); }
+
+std::string SensitivityJump::moved_discrete() const { return first_moved(model_, dd_); }
+
+std::string initial_discrete_sensitivities(Model& model, double t0, std::span<const double> x,
+                                           std::span<const double> u, std::span<const double> p,
+                                           const Eigen::MatrixXd& s, std::span<const int> params,
+                                           std::string& moved) {
+  const std::size_t nx = x.size(), np = p.size();
+  std::vector<std::vector<double>> dx(params.size(), std::vector<double>(nx, 0.0));
+  std::vector<std::vector<double>> dp(params.size(), std::vector<double>(np, 0.0));
+  std::vector<std::vector<double>> dd = discrete_seeds(model, params);
+  std::vector<EventTangent> directions;
+  for (std::size_t j = 0; j < params.size(); ++j) {
+    for (Eigen::Index i = 0; i < s.rows(); ++i)
+      dx[j][static_cast<std::size_t>(i)] = s(i, static_cast<Eigen::Index>(j));
+    dp[j][static_cast<std::size_t>(params[j])] = 1.0;
+    directions.push_back({dx[j], dp[j], 0.0, dd[j]});
+  }
+  std::string unsupported;
+  model.initial_event_tangent(t0, x, u, p, directions, unsupported);
+  write_discrete(model, params, dd);
+  moved = first_moved(model, dd);
+  return unsupported;
 }
 
 }  // namespace mo::runtime::detail

@@ -4,7 +4,9 @@
 //   dτ/dp = −(g_x S⁻ + g_p) / (g_x f⁻ + g_t)
 //   S⁺    = r_x S⁻ + r_p + (r_x f⁻ + r_t − f⁺) dτ/dp
 // computed as the tangent of the event map along δ = (S⁻ + f⁻ dτ/dp, e_p,
-// dτ/dp), minus f⁺ dτ/dp (the model's event tangents, model.hpp).
+// dτ/dp), minus f⁺ dτ/dp (the model's event tangents, model.hpp). A discrete
+// variable d with discrete sensitivities (ModelInfo::discrete_sensitivities)
+// moves along δd = S_d⁻, and S_d⁺ is its tangent after the handler.
 #pragma once
 
 #include <Eigen/Dense>
@@ -35,6 +37,11 @@ public:
   /// S⁺ (same shape as S⁻) for the state x⁺ after the last handler call.
   Eigen::MatrixXd finish(double t, std::span<const double> x, std::span<const double> u,
                          std::span<const double> p);
+  /// Writes S_d⁺ into the model's discrete sensitivities.
+  void finish_discrete();
+  /// A discrete variable whose S_d⁺ is not zero, or empty: CVODES'
+  /// sensitivities (f_x s + f_p) cannot carry it.
+  [[nodiscard]] std::string moved_discrete() const;
 
   /// dτ/dp_j per direction (0 for a time event or a tangential crossing).
   [[nodiscard]] const std::vector<double>& event_time_derivatives() const { return tau_; }
@@ -46,9 +53,20 @@ private:
   Model& model_;
   std::vector<int> crossings_;
   Eigen::Index rows_;
-  std::vector<std::vector<double>> dx_, dp_;
+  std::vector<int> params_;
+  std::vector<std::vector<double>> dx_, dp_, dd_;
   std::vector<double> tau_;
   std::string unsupported_;
 };
+
+/// S_d(t0): carries the directions (S(t0), e_p, 0) through the when-clauses
+/// that fired at initialisation and writes the model's discrete
+/// sensitivities. Returns what Model::initial_event_tangent names as
+/// unsupported, or empty; `moved` is set to a discrete variable whose
+/// sensitivity is not zero (empty if none).
+std::string initial_discrete_sensitivities(Model& model, double t0, std::span<const double> x,
+                                           std::span<const double> u, std::span<const double> p,
+                                           const Eigen::MatrixXd& s, std::span<const int> params,
+                                           std::string& moved);
 
 }  // namespace mo::runtime::detail

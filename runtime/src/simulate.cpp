@@ -149,6 +149,7 @@ private:
   bool handle_event(double t, std::span<const int> crossings, bool time_event, bool& changed);
   Eigen::MatrixXd sensitivities() const;
   bool apply_jump(double t, detail::SensitivityJump& jump);
+  bool discrete_sensitivities_carried(double t, const std::string& unsupported, const std::string& moved);
   void harvest_statistics();
   void fail(SimulationStatus status, std::string message);
   void fail_cvode(int flag, const char* call, double t);
@@ -501,6 +502,15 @@ bool Simulation::set_up() {
     CVodeSensEEtolerances(cv);
     CVodeSetSensErrCon(cv, options_.sensitivities.error_control ? SUNTRUE : SUNFALSE);
   }
+  // S_d(t0): the when-clauses that fired at initialisation (a sample-and-hold
+  // on initial()) set the discrete sensitivities.
+  if (sens_method_ != SensitivityMethod::none && !sens_params_.empty() &&
+      model_.provides_event_tangents()) {
+    std::string moved;
+    const std::string unsupported = detail::initial_discrete_sensitivities(
+        model_, t0, states(), u_, p_, sensitivities(), sens_params_, moved);
+    if (!discrete_sensitivities_carried(t0, unsupported, moved)) return false;
+  }
   return true;
 }
 
@@ -664,15 +674,28 @@ Eigen::MatrixXd Simulation::sensitivities() const {
   return sx;
 }
 
+// A discrete variable that moves with the parameters (a sample-and-hold) has
+// its sensitivity carried only by discrete sensitivities, which only the
+// model's own sensitivity states read: `unsupported` names one without them,
+// `moved` one with them (refused under CVODES). True if neither stops the run.
+bool Simulation::discrete_sensitivities_carried(double t, const std::string& unsupported,
+                                                const std::string& moved) {
+  const bool cvodes = sens_method_ != SensitivityMethod::model_states;
+  const std::string& name = unsupported.empty() && cvodes ? moved : unsupported;
+  if (name.empty()) return true;
+  fail(SimulationStatus::invalid_problem,
+       fmt::format("event at t = {}: discrete variable '{}' takes a value that depends on the "
+                   "states, parameters or time; sensitivities through it are carried only by "
+                   "the sensitivity states of a model compiled with sensitivities to these "
+                   "parameters (SensitivityMethod::model_states){}",
+                   t, name, cvodes ? ", not by CVODES' sensitivities" : ""));
+  return false;
+}
+
 // S⁺ after the handler: written back where S⁻ was read from.
 bool Simulation::apply_jump(double t, detail::SensitivityJump& jump) {
-  if (!jump.unsupported().empty()) {
-    fail(SimulationStatus::invalid_problem,
-         fmt::format("event at t = {}: discrete variable '{}' takes a value that depends on the "
-                     "states, parameters or time; sensitivities through it are not supported",
-                     t, jump.unsupported()));
-    return false;
-  }
+  if (!discrete_sensitivities_carried(t, jump.unsupported(), jump.moved_discrete())) return false;
+  jump.finish_discrete();
   const Eigen::MatrixXd sx = jump.finish(t, states(), u_, p_);
   if (!sx.allFinite()) {
     fail(SimulationStatus::rhs_failure,

@@ -2,6 +2,7 @@
 #include "mo/symbolic/event_tangents.hpp"
 
 #include <string>
+#include <unordered_map>
 
 #include "mo/symbolic/differentiate.hpp"
 #include "mo/symbolic/traversal.hpp"
@@ -35,11 +36,10 @@ ExprMap with_pre(const OdeModel& m, const ExprMap& derivative, const std::vector
   return out;
 }
 
-}  // namespace
-
-EventTangents event_tangents(OdeModel& m) {
+/// Seeds every state, parameter and time, and the discrete variables with
+/// `seeded[i]`, with a symbol each (appended to t's seed lists).
+ExprMap seed_all(OdeModel& m, const std::vector<bool>& seeded, EventTangents& t) {
   ExprArena& a = m.arena;
-  EventTangents t;
   ExprMap seeds;
   for (std::size_t i = 0; i < m.states.size(); ++i) {
     t.seed_x.push_back(seed(a, "x", i));
@@ -49,15 +49,66 @@ EventTangents event_tangents(OdeModel& m) {
     t.seed_p.push_back(seed(a, "p", k));
     seeds[m.parameters[k].symbol] = t.seed_p.back();
   }
+  for (std::size_t i = 0; i < m.discrete.size(); ++i) {
+    t.seed_d.push_back(seeded[i] ? seed(a, "d", i) : Expr());
+    if (seeded[i]) seeds[m.discrete[i].symbol] = t.seed_d.back();
+  }
   t.seed_t = seed(a, "t", 0);
   if (m.time.valid()) seeds[m.time] = t.seed_t;
   t.directional = differentiate_steps(
       m, seeds, [&](const std::string& v) { return unused(a, "$event_tangent(" + v + ")"); });
-  std::vector<Expr> roots(m.zero_crossings);
+  return seeds;
+}
+
+/// The when-clauses' assigned values, then their reinit values.
+std::vector<Expr> when_values(const OdeModel& m) {
+  std::vector<Expr> roots;
   for (const WhenClause& w : m.whens) {
     for (const Assignment& as : w.assignments) roots.push_back(as.value);
     for (const Reinit& r : w.reinits) roots.push_back(r.value);
   }
+  return roots;
+}
+
+}  // namespace
+
+std::vector<bool> discrete_with_tangents(OdeModel& m) {
+  std::vector<bool> out(m.discrete.size(), false);
+  std::unordered_map<Expr, std::size_t, ExprHash> index;
+  for (std::size_t i = 0; i < m.discrete.size(); ++i) index[m.discrete[i].symbol] = i;
+  std::vector<Expr> values, targets;
+  for (const WhenClause& w : m.whens)
+    for (const Assignment& as : w.assignments) {
+      values.push_back(as.value);
+      targets.push_back(as.target);
+    }
+  if (values.empty()) return out;
+  // To a fixed point: a value read from such a discrete variable moves too.
+  for (bool grew = true; grew;) {
+    grew = false;
+    EventTangents t;
+    seed_all(m, out, t);
+    const ExprMap map = with_pre(m, t.directional.derivative, values);
+    const std::vector<Expr> d = forward_derivative(m.arena, values, map, false);
+    for (std::size_t k = 0; k < d.size(); ++k) {
+      const auto it = index.find(targets[k]);
+      if (it == index.end() || out[it->second] || m.arena.is_constant(d[k], 0.0)) continue;
+      out[it->second] = grew = true;
+    }
+  }
+  return out;
+}
+
+EventTangents event_tangents(OdeModel& m) {
+  EventTangents t;
+  std::vector<bool> seeded(m.discrete.size(), false);
+  for (const OdeDiscrete& d : m.discrete)
+    if (d.sensitivity) seeded[d.sensitivity->discrete] = true;
+  seed_all(m, seeded, t);
+  ExprArena& a = m.arena;
+  std::vector<Expr> roots(m.zero_crossings);
+  const std::vector<Expr> values = when_values(m);
+  roots.insert(roots.end(), values.begin(), values.end());
   const ExprMap map = with_pre(m, t.directional.derivative, roots);
   // One call for all rows: linear in the model's size.
   const std::vector<Expr> d = forward_derivative(a, roots, map, false);

@@ -6,6 +6,7 @@
 
 #include "mo/symbolic/differentiate.hpp"
 #include "mo/symbolic/directional.hpp"
+#include "mo/symbolic/event_tangents.hpp"
 #include "mo/symbolic/printer.hpp"
 #include "mo/symbolic/substitute.hpp"
 #include "mo/symbolic/traversal.hpp"
@@ -98,9 +99,10 @@ void check_event_delays(const OdeModel& m, const std::unordered_set<Expr, ExprHa
 /// The base states whose value depends on parameter symbol `p`: a worklist
 /// over leaves (parameter → steps reading it → their targets → states whose
 /// derivative they are → steps reading those states ...), linear in the model.
+/// `through_events`: set if p reaches an event expression.
 std::vector<bool> influenced_states(const OdeModel& m, const std::vector<StepLeaves>& steps,
                                     const Users& u, Expr p, std::size_t nx,
-                                    const std::vector<Expr>& start_derivative) {
+                                    const std::vector<Expr>& start_derivative, bool& through_events) {
   std::vector<bool> hit(nx, false), step_done(steps.size(), false);
   std::vector<Expr> work{p};
   for (std::size_t i = 0; i < nx; ++i)
@@ -132,7 +134,8 @@ std::vector<bool> influenced_states(const OdeModel& m, const std::vector<StepLea
   // a parameter that reaches an indicator, a when-condition, a reinit or a
   // discrete assignment moves the event or its effect, and through the jump
   // any state. All base states then get sensitivities (a superset).
-  if (touches_events(m, reached)) {
+  through_events = touches_events(m, reached);
+  if (through_events) {
     check_event_delays(m, reached);
     std::fill(hit.begin(), hit.end(), true);
   }
@@ -206,8 +209,35 @@ void replace_in_steps(ExprArena& a, std::vector<Step>& steps, const ExprMap& map
   substitute_in_place(a, targets, map);
 }
 
+/// The discrete sensitivities ∂d/∂p of the discrete variables with `moving`
+/// (discrete_with_tangents): new discrete variables, 0 at t0 and set by the
+/// run time at events, seeded for d and pre(d) in `seeds`.
+void add_discrete_sensitivities(OdeModel& m, const std::vector<bool>& moving, std::size_t k,
+                                ExprMap& seeds) {
+  ExprArena& a = m.arena;
+  const OdeParameter& par = m.parameters[k];
+  std::unordered_map<Expr, Expr, ExprHash> companion;
+  for (std::size_t i = 0; i < moving.size(); ++i) {
+    if (!moving[i]) continue;
+    OdeDiscrete c;
+    c.info.name = sensitivity_name(m.discrete[i].info.name, par.info.name);
+    c.info.description = "sensitivity of " + m.discrete[i].info.name + " to " + par.info.name;
+    c.symbol = a.symbol(c.info.name, SymbolRole::Discrete, static_cast<std::int32_t>(m.discrete.size()));
+    c.sensitivity = DiscreteSensitivityOf{i, k};
+    seeds[m.discrete[i].symbol] = c.symbol;
+    companion[m.discrete[i].symbol] = c.symbol;
+    m.discrete.push_back(std::move(c));
+  }
+  if (companion.empty()) return;
+  // Between events pre(d) = d.
+  for (Expr l : leaves(a, m.equation_expressions()))
+    if (a.kind(l) == ExprKind::Pre)
+      if (const auto it = companion.find(a.operand(l, 0)); it != companion.end()) seeds[l] = it->second;
+}
+
 void add_for_parameter(OdeModel& m, const std::vector<StepLeaves>& steps, const Users& u,
-                       std::size_t k, std::size_t nx, std::size_t ny, Additions& add) {
+                       std::size_t k, std::size_t nx, std::size_t ny,
+                       const std::vector<bool>& moving, Additions& add) {
   const OdeParameter par = m.parameters[k];
   ExprArena& a = m.arena;
   // ∂x0/∂p through the initial system (implicit function theorem on its blocks).
@@ -219,8 +249,12 @@ void add_for_parameter(OdeModel& m, const std::vector<StepLeaves>& steps, const 
     start_derivative.push_back(derivative_along(m, init, m.states[i].start));
   add.initial_steps.insert(add.initial_steps.end(), init.steps.begin(), init.steps.end());
   add.initial_unknowns.insert(add.initial_unknowns.end(), init.symbols.begin(), init.symbols.end());
-  const std::vector<bool> hit = influenced_states(m, steps, u, par.symbol, nx, start_derivative);
+  bool through_events = false;
+  const std::vector<bool> hit =
+      influenced_states(m, steps, u, par.symbol, nx, start_derivative, through_events);
   ExprMap seeds{{par.symbol, a.constant(1.0)}};
+  // Unless p reaches an event expression, no discrete value depends on it.
+  if (through_events) add_discrete_sensitivities(m, moving, k, seeds);
   std::vector<std::size_t> new_states;
   for (std::size_t i = 0; i < nx; ++i) {
     if (!hit[i]) continue;
@@ -282,8 +316,9 @@ void add_sensitivities(OdeModel& model, std::span<const std::size_t> parameters)
   const std::size_t nx = model.states.size(), ny = model.outputs.size();
   const std::vector<StepLeaves> steps = step_leaves(model);
   const Users u = users(model, steps, nx);
+  const std::vector<bool> moving = discrete_with_tangents(model);
   Additions add;
-  for (std::size_t k : parameters) add_for_parameter(model, steps, u, k, nx, ny, add);
+  for (std::size_t k : parameters) add_for_parameter(model, steps, u, k, nx, ny, moving, add);
   auto append = [](auto& to, auto& from) { to.insert(to.end(), from.begin(), from.end()); };
   append(model.steps, add.steps);
   append(model.algebraics, add.algebraics);

@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <sstream>
 #include <string>
@@ -103,6 +104,26 @@ inline std::string shared_third_party_dir() {
   return {};
 }
 
+/// MODELICAPATH set for the guard's lifetime, then restored.
+class ModelicaPath {
+public:
+  explicit ModelicaPath(const std::string& path) {
+    if (const char* before = std::getenv("MODELICAPATH")) saved_ = before;
+    ::setenv("MODELICAPATH", path.c_str(), 1);
+  }
+  ~ModelicaPath() {
+    if (saved_)
+      ::setenv("MODELICAPATH", saved_->c_str(), 1);
+    else
+      ::unsetenv("MODELICAPATH");
+  }
+  ModelicaPath(const ModelicaPath&) = delete;
+  ModelicaPath& operator=(const ModelicaPath&) = delete;
+
+private:
+  std::optional<std::string> saved_;
+};
+
 /// compiled_model() of a spec that reads the Modelica Standard Library 3.2.2 of
 /// ../shared (beside the checkout, else $MO_SHARED_DIR), found by Modelica's
 /// lookup on MODELICAPATH as a user runs it (restored afterwards); null, with
@@ -113,15 +134,8 @@ inline std::unique_ptr<runtime::Model> msl_compiled_model(const std::string& nam
     WARN("SKIPPED: no ../shared/third_party (set MO_SHARED_DIR)");
     return nullptr;
   }
-  const char* before = std::getenv("MODELICAPATH");
-  const std::string saved = before ? before : "";
-  ::setenv("MODELICAPATH", (shared + "/third_party/msl-3.2.2").c_str(), 1);
-  auto model = compiled_model(name, spec);
-  if (before)
-    ::setenv("MODELICAPATH", saved.c_str(), 1);
-  else
-    ::unsetenv("MODELICAPATH");
-  return model;
+  const ModelicaPath msl(shared + "/third_party/msl-3.2.2");
+  return compiled_model(name, spec);
 }
 
 /// The values of variable `name` over a trajectory of model `model_name`

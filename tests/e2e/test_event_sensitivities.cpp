@@ -72,6 +72,43 @@ TEST_CASE("a switch inside a torn nonlinear block: the jump goes through Newton"
   check("e2e_ev_limit", "DiodeLimitLoop", {"R", "Maxexp", "n", "G"}, runtime::OutputGrid::uniform(0, 2, 40), 5e-4);
 }
 
+TEST_CASE("a sample-and-hold and a latched force: discrete sensitivities", "[events][sensitivities]") {
+  // u = k (r - x) held at initial() and at every tick, F = c x + pre(F) + v + 0.1 t
+  // latched at x > xs: S_u and S_F jump with the tangent of their values
+  // (with dτ/dp of the crossing for F) and feed der(S_x) between events.
+  // The value held from initial() stands until the first tick at 0.2; the grid
+  // avoids the ticks at 0.2 + 0.1 k. CVODES' sensitivities
+  // (f_x s + f_p) have no term for S_u and S_F: that run is refused.
+  const auto run = run_through_events("e2e_ev_sampled", data_model("SampledControl"),
+                                      {"k", "a", "xs", "x0", "c"}, runtime::OutputGrid::uniform(0, 2, 37),
+                                      1e-10, 1e-4, false);
+  // xs and c act on v alone, so d(x)/d(xs) and d(x)/d(c) are exactly 0: the
+  // floor 1e-4 keeps the quotient's noise there (about 1e-7) out of the ratio.
+  const double generated = worst_relative(run, run.generated, 1e-3, 1e-4);
+  WARN("SampledControl: sensitivities vs central differences, worst relative difference " << generated);
+  CHECK(run.event_times.size() > 15);
+  CHECK(generated < 2e-3);
+}
+
+TEST_CASE("the MSL's ZeroOrderHold in a sampled loop: discrete sensitivities", "[events][sensitivities][msl]") {
+  // The hold's `y = pre(ySample)` reads the held value through pre(): the
+  // sensitivity equations read d(hold.ySample)/d(p) for it. The first tick is
+  // at 0.2, so the hold on initial() stands until then.
+  const std::string shared = shared_third_party_dir();
+  if (shared.empty()) {
+    WARN("SKIPPED: no ../shared/third_party (set MO_SHARED_DIR)");
+    return;
+  }
+  const ModelicaPath msl(shared + "/third_party/msl-3.2.2");
+  const auto run = run_through_events("e2e_ev_msl_hold", data_model("MslSampledLoop"),
+                                      {"k", "plant.T", "plant.k", "plant.y_start"},
+                                      runtime::OutputGrid::uniform(0, 2, 37), 1e-10, 1e-4, false);
+  const double generated = worst_relative(run, run.generated, 1e-3, 1e-6);
+  WARN("MslSampledLoop: sensitivities vs central differences, worst relative difference " << generated);
+  CHECK(run.event_times.size() > 15);
+  CHECK(generated < 1e-4);
+}
+
 TEST_CASE("two balls bounce at one instant: two indicators cross together", "[events][sensitivities]") {
   // g and h0 move both bounces together (one dτ/dp for both indicators);
   // e1 and e2 act only in their own reinit, so d(ball 2)/d(e1) is exactly 0:

@@ -134,3 +134,43 @@ TEST_CASE("a parameter that acts only at events gets sensitivity states (issue 1
   add_sensitivities(only_g, std::vector<std::size_t>{*only_g.parameter_index("g")});
   CHECK(only_g.states.size() == 2 * only_g.num_base_states());  // g moves h, hence the bounce
 }
+
+TEST_CASE("a discrete value held from the states gets discrete sensitivities, a mode flag none") {
+  // u holds k*x (its derivative along x, k is not zero), w holds u (through
+  // another held value, to a fixed point), mode and n are flags whose values
+  // do not move with x: structurally zero derivatives.
+  const std::string text = R"(
+    model Held
+      parameter Real k = 2, a = 1, unused = 3;
+      Real x(start = 1, fixed = true);
+      discrete Real u(start = 0), w(start = 0), mode(start = 0);
+      discrete Integer n(start = 0);
+    equation
+      der(x) = -a*x + u + w;
+      when sample(0, 0.1) then
+        u = k*x;
+        mode = if x > 0.5 then 1 else 2;
+        n = pre(n) + 1;
+      end when;
+      when x < 0.3 then
+        w = 2*pre(u);
+      end when;
+    end Held;)";
+  OdeModel m = lower_text(text);
+  const std::size_t nd = m.discrete.size();
+  const std::size_t ka[] = {*m.parameter_index("k"), *m.parameter_index("a")};
+  add_sensitivities(m, ka);
+  std::vector<std::string> names;
+  for (std::size_t i = nd; i < m.discrete.size(); ++i) {
+    const OdeDiscrete& d = m.discrete[i];
+    REQUIRE(d.sensitivity);
+    CHECK(d.info.name == sensitivity_name(m.discrete[d.sensitivity->discrete].info.name,
+                                          m.parameters[d.sensitivity->parameter].info.name));
+    names.push_back(d.info.name);
+  }
+  CHECK(names == std::vector<std::string>{"d(u)/d(k)", "d(w)/d(k)", "d(u)/d(a)", "d(w)/d(a)"});
+  // Only a parameter that reaches no event expression gets none.
+  OdeModel none = lower_text(text);
+  add_sensitivities(none, std::vector<std::size_t>{*none.parameter_index("unused")});
+  CHECK(none.discrete.size() == nd);
+}

@@ -160,6 +160,7 @@ struct EventTangentCode {
   std::vector<int> whens;              ///< per when-clause, a section index
   std::vector<Slot> seed_x, seed_p;    ///< δx, δp
   Slot seed_t = 0;                     ///< δt
+  std::vector<int> seed_d;             ///< δd per discrete variable: its slot, or -1 (held fixed)
   std::vector<Slot> indicator_slots;   ///< δg_k after `tangent`
   std::vector<Slot> assign_slots;      ///< δ(value) per assignment, in WhenCode order
   std::vector<Slot> reinit_slots;      ///< δ(value) per reinit, in WhenCode order

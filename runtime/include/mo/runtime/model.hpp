@@ -69,6 +69,15 @@ struct SensitivityOf {
   std::size_t parameter;  ///< index of the parameter p_j
 };
 
+/// A discrete sensitivity: discrete variable `index` holds ∂d/∂p of discrete
+/// variable `discrete` (a sample-and-hold of a state, say), constant between
+/// events; the simulator sets it at each event (docs/events.md).
+struct DiscreteSensitivity {
+  std::size_t index;      ///< the discrete variable that holds the sensitivity
+  std::size_t discrete;   ///< index of the discrete variable d
+  std::size_t parameter;  ///< index of the parameter p_j
+};
+
 /// A named scalar of the model, as the modeller declared it.
 struct Variable {
   std::string name;         ///< Modelica name, e.g. "pendulum.phi" or "d(phi)/d(m2)"
@@ -100,6 +109,10 @@ struct ModelInfo {
   std::vector<Variable> outputs;       ///< y
   std::vector<Parameter> parameters;   ///< p
   std::vector<Variable> discrete;      ///< d (Real, Integer and Boolean alike, as double)
+  /// The discrete variables that are sensitivities of others; empty unless
+  /// the model was compiled with sensitivities and has a when-clause value
+  /// that moves with a parameter.
+  std::vector<DiscreteSensitivity> discrete_sensitivities;
   std::size_t num_event_indicators = 0;  ///< ng
   /// Per indicator: false if no relation on it enters the right-hand side
   /// (it only feeds when-conditions and discrete equations); empty: all do.
@@ -147,11 +160,15 @@ struct EventResponse {
 };
 
 /// One direction along which the event map is differentiated: the derivative
-/// of (x, p, t) at the event instant. handle_event_tangent() updates `x`.
+/// of (x, p, t) at the event instant, and of the discrete variables that have
+/// discrete sensitivities. handle_event_tangent() updates `x` and `d`.
 struct EventTangent {
   std::span<double> x;         ///< δx, nx values; on return δx after the handler call
   std::span<const double> p;   ///< δp, np values
   double t = 0.0;              ///< δt (the event time's derivative)
+  /// δd, nd values (or empty: all 0). Read and updated only for the discrete
+  /// variables d of ModelInfo::discrete_sensitivities; 0 for the others.
+  std::span<double> d = {};
 };
 
 /// A model compiled to C++: generated code derives from this class.
@@ -264,17 +281,19 @@ public:
   virtual void rhs_at_event(double t, std::span<const double> x, std::span<const double> u,
                             std::span<const double> p, std::span<const int> relations_from,
                             std::span<double> xdot);
-  /// dg = g_x dx + g_p dp + g_t dt for every indicator (inputs held fixed),
-  /// relations valued as in rhs_at_event. Throws std::logic_error (an
-  /// internal error) unless provides_event_tangents().
+  /// dg = g_x dx + g_d dd + g_p dp + g_t dt for every indicator (inputs held
+  /// fixed; `dd` as EventTangent::d), relations valued as in rhs_at_event.
+  /// Throws std::logic_error (an internal error) unless provides_event_tangents().
   virtual void event_indicator_tangent(double t, std::span<const double> x,
                                        std::span<const double> u, std::span<const double> p,
                                        std::span<const int> relations_from,
                                        std::span<const double> dx, std::span<const double> dp,
-                                       double dt, std::span<double> dg);
+                                       std::span<const double> dd, double dt,
+                                       std::span<double> dg);
   /// handle_event(), and carries each direction through it: a reinitialised
-  /// state's δx becomes r_x δx + r_p δp + r_t δt (discrete variables held
-  /// fixed). If a fired when-clause assigns a discrete variable a value with a
+  /// state's δx becomes r_x δx + r_d δd + r_p δp + r_t δt, and an assigned
+  /// discrete variable with discrete sensitivities its δd likewise. If a
+  /// fired when-clause assigns another discrete variable a value with a
   /// nonzero derivative, `unsupported` names it (its sensitivity is not
   /// carried). Throws std::logic_error unless provides_event_tangents().
   virtual EventResponse handle_event_tangent(const EventCause& cause, std::span<double> x,
@@ -282,6 +301,15 @@ public:
                                              std::span<const double> p,
                                              std::span<EventTangent> directions,
                                              std::string& unsupported);
+  /// After initial_state(): carries each direction (δx = ∂x0/∂p) through the
+  /// when-clauses that fired in the event at initialisation, updating `d` as
+  /// handle_event_tangent does (`unsupported` likewise). Does nothing for a
+  /// model without event tangents.
+  virtual void initial_event_tangent(double t0, std::span<const double> x,
+                                     std::span<const double> u, std::span<const double> p,
+                                     std::span<EventTangent> directions, std::string& unsupported) {
+    (void)t0, (void)x, (void)u, (void)p, (void)directions, (void)unsupported;
+  }
 
   // --- delay() (ModelInfo::num_delays > 0) ------------------------------------
 

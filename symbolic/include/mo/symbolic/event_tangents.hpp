@@ -11,8 +11,10 @@
 // continuous v moving like v. The run time uses them with
 //   dτ/dp = −(g_x S⁻ + g_p) / (g_x f⁻ + g_t)          (δ = (S⁻, e_p, 0) and (f⁻, 0, 1))
 //   S⁺    = δr[S⁻ + f⁻ dτ/dp, e_p, dτ/dp] − f⁺ dτ/dp
-// which is r_x S⁻ + r_p + (r_x f⁻ + r_t − f⁺) dτ/dp. Discrete variables and
-// inputs are held fixed along the direction (δd = δu = 0).
+// which is r_x S⁻ + r_p + (r_x f⁻ + r_t − f⁺) dτ/dp. Inputs are held fixed
+// along the direction (δu = 0), and so are discrete variables, except those
+// that have discrete sensitivities (OdeDiscrete::sensitivity): they move by
+// δd = their sensitivity, and pre(d) with them.
 #pragma once
 
 #include <vector>
@@ -31,6 +33,9 @@ struct WhenTangent {
 struct EventTangents {
   std::vector<Expr> seed_x;  ///< δx, one symbol per state
   std::vector<Expr> seed_p;  ///< δp, one symbol per parameter
+  /// δd per discrete variable: a symbol for those that have discrete
+  /// sensitivities, an invalid Expr for the others (held fixed).
+  std::vector<Expr> seed_d;
   Expr seed_t;               ///< δt
   Directional directional;   ///< steps computing the step targets' derivatives
   std::vector<Expr> indicators;  ///< δg per zero crossing
@@ -40,5 +45,11 @@ struct EventTangents {
 /// Builds the event tangents of `model` in model.arena (seed symbols are new
 /// Algebraic symbols named "$event_seed..."); the model is not changed otherwise.
 EventTangents event_tangents(OdeModel& model);
+
+/// Per discrete variable: true if a when-clause assigns it a value whose
+/// derivative along states, parameters and time (and such discrete variables,
+/// to a fixed point) is not structurally zero — a sample-and-hold `u = -k*x`,
+/// not a mode flag `if x > 0 then 1 else 2`. Adds seed symbols to the arena.
+std::vector<bool> discrete_with_tangents(OdeModel& model);
 
 }  // namespace mo::symbolic

@@ -75,11 +75,20 @@ struct OdeAlgebraic {
   Expr symbol;  ///< role Algebraic
 };
 
+/// A discrete sensitivity ∂d/∂p of a discrete variable whose when-clause
+/// value depends on states, parameters or time (a sample-and-hold): constant
+/// between events, set by the run time at each event (indices into the model).
+struct DiscreteSensitivityOf {
+  std::size_t discrete;   ///< index of the base discrete variable in OdeModel::discrete
+  std::size_t parameter;  ///< index of the parameter in OdeModel::parameters
+};
+
 /// A discrete variable (Real, Integer or Boolean as double).
 struct OdeDiscrete {
   VariableInfo info;
   Expr symbol;         ///< role Discrete; pre(symbol) is its value before an event
   double start = 0.0;  ///< value at t0
+  std::optional<DiscreteSensitivityOf> sensitivity = {};  ///< set iff this is ∂d/∂p
 };
 
 /// A named value for results: a model output, or an eliminated variable.

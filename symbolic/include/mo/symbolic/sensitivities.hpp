@@ -8,7 +8,10 @@
 // depends on p_k through its start value or its dynamics, or if p_k reaches
 // an event expression (indicator, when-condition, reinit, discrete
 // assignment): then every base state gets one, since the jump of S at the
-// event (docs/events.md) may reach any state.
+// event (docs/events.md) may reach any state, and every discrete variable
+// that a when-clause sets from states, parameters or time gets a discrete
+// sensitivity d(d)/d(p_k) (OdeDiscrete::sensitivity), which the equations
+// read and the run time sets at events.
 #pragma once
 
 #include <span>
