@@ -571,6 +571,9 @@ public:
       : s_(std::move(s)), t0_(t0), t1_(t1) {}
   double value(double s) const override { return s_->value(t0_ + s * (t1_ - t0_)); }
   double value_before(double s) const override { return s_->value_before(t0_ + s * (t1_ - t0_)); }
+  double derivative_before(double s) const override {
+    return s_->derivative_before(t0_ + s * (t1_ - t0_)) * (t1_ - t0_);
+  }
   std::vector<double> breakpoints(double a, double b) const override {
     std::vector<double> out;
     if (t1_ <= t0_) return out;

@@ -336,6 +336,7 @@ std::string event_tangent_tables(const Program& p) {
   for (int k : e.whens) sections.push_back(fmt::format("section_{}", k));
   out += array("SectionFunction", "when_tangent_sections", sections, [](const std::string& s) { return s; });
   out += slot_array("event_seed_x", e.seed_x);
+  out += slot_array("event_seed_u", e.seed_u);
   out += slot_array("event_seed_p", e.seed_p);
   out += array("int", "event_seed_d", e.seed_d, [](int x) { return std::to_string(x); });
   out += slot_array("indicator_tangent_slots", e.indicator_slots);

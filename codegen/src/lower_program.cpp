@@ -436,6 +436,7 @@ private:
     const symbolic::EventTangents& t = *tangents_;
     EventTangentCode& code = p_.event_tangents;
     for (Expr e : t.seed_x) code.seed_x.push_back(slots_->of(e));
+    for (Expr e : t.seed_u) code.seed_u.push_back(slots_->of(e));
     for (Expr e : t.seed_p) code.seed_p.push_back(slots_->of(e));
     for (Expr e : t.seed_d) code.seed_d.push_back(e.valid() ? static_cast<int>(slots_->of(e)) : -1);
     code.seed_t = slots_->of(t.seed_t);

@@ -336,13 +336,12 @@ public:
 
   void event_indicator_tangent(double t, std::span<const double> x, std::span<const double> u,
                                std::span<const double> p, std::span<const int> relations_from,
-                               std::span<const double> dx, std::span<const double> dp,
-                               std::span<const double> dd, double dt, std::span<double> dg) override {
-    if (event_rhs_section < 0) return mo::runtime::Model::event_indicator_tangent(t, x, u, p, relations_from, dx, dp, dd, dt, dg);
+                               const mo::runtime::EventTangent& direction, std::span<double> dg) override {
+    if (event_rhs_section < 0) return mo::runtime::Model::event_indicator_tangent(t, x, u, p, relations_from, direction, dg);
     load(t, x, u, p);
     set_relations(relations_from);
     run(event_rhs_section, relations_.data());
-    seed_event(dx, dp, dd, dt);
+    seed_event(direction);
     run(event_tangent_section, relations_.data());
     for (std::size_t i = 0; i < ng; ++i) dg[i] = w_[static_cast<std::size_t>(indicator_tangent_slots[i])];
   }
@@ -666,13 +665,13 @@ private:
   void set_relations(std::span<const int> from) {
     for (std::size_t i = 0; i < ng; ++i) relations_[i] = i < from.size() ? from[i] : 0;
   }
-  void seed_event(std::span<const double> dx, std::span<const double> dp, std::span<const double> dd,
-                  double dt) {
-    for (std::size_t i = 0; i < nx; ++i) w_[static_cast<std::size_t>(event_seed_x[i])] = dx[i];
-    for (std::size_t i = 0; i < np; ++i) w_[static_cast<std::size_t>(event_seed_p[i])] = dp[i];
+  void seed_event(const mo::runtime::EventTangent& dir) {
+    for (std::size_t i = 0; i < nx; ++i) w_[static_cast<std::size_t>(event_seed_x[i])] = dir.x[i];
+    for (std::size_t i = 0; i < nu; ++i) w_[static_cast<std::size_t>(event_seed_u[i])] = dir.u.empty() ? 0.0 : dir.u[i];
+    for (std::size_t i = 0; i < np; ++i) w_[static_cast<std::size_t>(event_seed_p[i])] = dir.p[i];
     for (std::size_t i = 0; i < nd; ++i)
-      if (event_seed_d[i] >= 0) w_[static_cast<std::size_t>(event_seed_d[i])] = dd.empty() ? 0.0 : dd[i];
-    w_[event_seed_t] = dt;
+      if (event_seed_d[i] >= 0) w_[static_cast<std::size_t>(event_seed_d[i])] = dir.d.empty() ? 0.0 : dir.d[i];
+    w_[event_seed_t] = dir.t;
   }
   // One direction through the clauses with fired[k], in order, at the point
   // event_rhs_section computed: a reinit's δx and, for a discrete variable
@@ -681,7 +680,7 @@ private:
   // clauses see δd as it was when the call started (as the replay sees d).
   void when_tangents(const std::vector<char>& fired, mo::runtime::EventTangent& dir, std::string& unsupported) {
     double* w = w_.data();
-    seed_event(dir.x, dir.p, dir.d, dir.t);
+    seed_event(dir);
     run(event_tangent_section, relations_.data());
     for (std::size_t k = 0; k < nwhen; ++k) {
       if (!fired[k]) continue;

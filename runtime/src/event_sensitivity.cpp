@@ -55,9 +55,9 @@ std::string first_moved(const Model& model, const std::vector<std::vector<double
 }  // namespace
 
 SensitivityJump::SensitivityJump(Model& model, double t, std::span<const double> x,
-                                 std::span<const double> u, std::span<const double> p,
-                                 std::span<const int> crossings, const Eigen::MatrixXd& s,
-                                 std::span<const int> params)
+                                 std::span<const double> u, std::span<const double> udot,
+                                 std::span<const double> p, std::span<const int> crossings,
+                                 const Eigen::MatrixXd& s, std::span<const int> params)
     : model_(model), crossings_(crossings.begin(), crossings.end()), rows_(s.rows()),
       params_(params.begin(), params.end()), dd_(discrete_seeds(model, params)) {
   const std::size_t nx = x.size(), np = p.size();
@@ -70,21 +70,24 @@ SensitivityJump::SensitivityJump(Model& model, double t, std::span<const double>
   model.rhs_at_event(t, x, u, p, before, f_before);
   int g = -1;
   if (!crossings.empty() && ng > 0) {
-    model.event_indicator_tangent(t, x, u, p, before, f_before, zero_p, {}, 1.0, slope);
+    const EventTangent along_time{f_before, zero_p, 1.0, {}, udot};
+    model.event_indicator_tangent(t, x, u, p, before, along_time, slope);
     g = steepest(crossings, slope);
   }
   dx_.assign(ns, std::vector<double>(nx, 0.0));
   dp_.assign(ns, std::vector<double>(np, 0.0));
   tau_.assign(ns, 0.0);
+  du_.assign(ns, {});
   for (std::size_t j = 0; j < ns; ++j) {
     for (Eigen::Index i = 0; i < rows_; ++i)
       dx_[j][static_cast<std::size_t>(i)] = s(i, static_cast<Eigen::Index>(j));
     dp_[j][static_cast<std::size_t>(params[j])] = 1.0;
     if (g < 0) continue;
-    model.event_indicator_tangent(t, x, u, p, before, dx_[j], dp_[j], dd_[j], 0.0, dg);
+    model.event_indicator_tangent(t, x, u, p, before, {dx_[j], dp_[j], 0.0, dd_[j]}, dg);
     tau_[j] = -dg[static_cast<std::size_t>(g)] / slope[static_cast<std::size_t>(g)];
     for (std::size_t i = 0; i < static_cast<std::size_t>(rows_); ++i)
       dx_[j][i] += f_before[i] * tau_[j];
+    for (double v : udot) du_[j].push_back(v * tau_[j]);
   }
 }
 
@@ -92,7 +95,8 @@ EventResponse SensitivityJump::handle(const EventCause& cause, std::span<double>
                                       std::span<const double> u, std::span<const double> p) {
   std::vector<EventTangent> directions;
   directions.reserve(dx_.size());
-  for (std::size_t j = 0; j < dx_.size(); ++j) directions.push_back({dx_[j], dp_[j], tau_[j], dd_[j]});
+  for (std::size_t j = 0; j < dx_.size(); ++j)
+    directions.push_back({dx_[j], dp_[j], tau_[j], dd_[j], du_[j]});
   return model_.handle_event_tangent(cause, x, u, p, directions, unsupported_);
 }
 

@@ -3,8 +3,9 @@
 // With τ the event time, g the indicator that crossed and x⁺ = r(x⁻, p, t):
 //   dτ/dp = −(g_x S⁻ + g_p) / (g_x f⁻ + g_t)
 //   S⁺    = r_x S⁻ + r_p + (r_x f⁻ + r_t − f⁺) dτ/dp
-// computed as the tangent of the event map along δ = (S⁻ + f⁻ dτ/dp, e_p,
-// dτ/dp), minus f⁺ dτ/dp (the model's event tangents, model.hpp). A discrete
+// computed as the tangent of the event map along δ = (S⁻ + f⁻ dτ/dp, u̇ dτ/dp,
+// e_p, dτ/dp), minus f⁺ dτ/dp (the model's event tangents, model.hpp), with
+// ġ = g_x f⁻ + g_u u̇ + g_t in dτ/dp's denominator. A discrete
 // variable d with discrete sensitivities (ModelInfo::discrete_sensitivities)
 // moves along δd = S_d⁻, and S_d⁺ is its tangent after the handler.
 #pragma once
@@ -25,10 +26,12 @@ class SensitivityJump {
 public:
   /// `s`: S⁻, column j = ∂x/∂p_{params[j]} for the first s.rows() states.
   /// `crossings` empty for a time event (its time does not depend on p).
+  /// `udot`: the inputs' derivatives just before t (empty: all 0).
   /// Requires model.provides_event_tangents().
   SensitivityJump(Model& model, double t, std::span<const double> x, std::span<const double> u,
-                  std::span<const double> p, std::span<const int> crossings,
-                  const Eigen::MatrixXd& s, std::span<const int> params);
+                  std::span<const double> udot, std::span<const double> p,
+                  std::span<const int> crossings, const Eigen::MatrixXd& s,
+                  std::span<const int> params);
 
   /// Model::handle_event_tangent with this instant's directions.
   EventResponse handle(const EventCause& cause, std::span<double> x, std::span<const double> u,
@@ -54,7 +57,7 @@ private:
   std::vector<int> crossings_;
   Eigen::Index rows_;
   std::vector<int> params_;
-  std::vector<std::vector<double>> dx_, dp_, dd_;
+  std::vector<std::vector<double>> dx_, dp_, dd_, du_;
   std::vector<double> tau_;
   std::string unsupported_;
 };

@@ -9,12 +9,19 @@
 #include <sstream>
 
 namespace mo::runtime {
+
+double InputSignal::derivative_before(double t) const {
+  const double h = 1e-7 * std::max(1.0, std::abs(t));
+  return (value_before(t) - value(t - h)) / h;
+}
+
 namespace {
 
 class ConstantSignal final : public InputSignal {
 public:
   explicit ConstantSignal(double v) : value_(v) {}
   double value(double) const override { return value_; }
+  double derivative_before(double) const override { return 0.0; }
 
 private:
   double value_;
@@ -27,6 +34,9 @@ public:
         offset_(offset) {}
   double value(double t) const override {
     return offset_ + amplitude_ * std::sin(omega_ * t + phase_);
+  }
+  double derivative_before(double t) const override {
+    return amplitude_ * omega_ * std::cos(omega_ * t + phase_);
   }
 
 private:
@@ -41,6 +51,7 @@ public:
   double value_before(double t) const override {
     return t <= start_ ? offset_ : offset_ + height_;
   }
+  double derivative_before(double) const override { return 0.0; }
   std::vector<double> breakpoints(double t0, double t1) const override {
     if (start_ > t0 && start_ < t1) return {start_};
     return {};
@@ -62,6 +73,7 @@ public:
     auto i = std::lower_bound(times_.begin(), times_.end(), t) - times_.begin();
     return values_[i == 0 ? 0 : static_cast<std::size_t>(i - 1)];
   }
+  double derivative_before(double) const override { return 0.0; }
   std::vector<double> breakpoints(double t0, double t1) const override {
     std::vector<double> out;
     for (std::size_t k = 1; k < times_.size(); ++k)  // times_[0] changes nothing
@@ -79,6 +91,7 @@ public:
       : amplitude_(amplitude), period_(period), width_(width), start_(start), offset_(offset) {}
   double value(double t) const override { return at(t, false); }
   double value_before(double t) const override { return at(t, true); }
+  double derivative_before(double) const override { return 0.0; }
   std::vector<double> breakpoints(double t0, double t1) const override {
     std::vector<double> out;
     double k0 = std::max(0.0, std::floor((t0 - start_) / period_));
@@ -117,6 +130,14 @@ public:
     const auto& ts = table_->times;
     auto i = static_cast<std::size_t>(std::lower_bound(ts.begin(), ts.end(), t) - ts.begin());
     return interpolate(i, t);
+  }
+  // The slope of the segment that ends at or after t (0 where held).
+  double derivative_before(double t) const override {
+    const auto& ts = table_->times;
+    auto i = static_cast<std::size_t>(std::lower_bound(ts.begin(), ts.end(), t) - ts.begin());
+    if (i == 0 || i == ts.size()) return 0.0;
+    const auto& ys = table_->columns[column_];
+    return (ys[i] - ys[i - 1]) / (ts[i] - ts[i - 1]);
   }
   // Every sample time is a kink (or a jump) of the linear interpolant.
   std::vector<double> breakpoints(double t0, double t1) const override {
@@ -206,6 +227,9 @@ public:
   explicit SharedSignal(std::shared_ptr<const InputSignal> signal) : signal_(std::move(signal)) {}
   [[nodiscard]] double value(double t) const override { return signal_->value(t); }
   [[nodiscard]] double value_before(double t) const override { return signal_->value_before(t); }
+  [[nodiscard]] double derivative_before(double t) const override {
+    return signal_->derivative_before(t);
+  }
   [[nodiscard]] std::vector<double> breakpoints(double t0, double t1) const override {
     return signal_->breakpoints(t0, t1);
   }
@@ -401,6 +425,10 @@ void Inputs::evaluate(double t, std::span<double> u) const {
 
 void Inputs::evaluate_before(double t, std::span<double> u) const {
   for (std::size_t i = 0; i < signals_.size(); ++i) u[i] = signals_[i]->value_before(t);
+}
+
+void Inputs::derivative_before(double t, std::span<double> udot) const {
+  for (std::size_t i = 0; i < signals_.size(); ++i) udot[i] = signals_[i]->derivative_before(t);
 }
 
 std::vector<double> Inputs::breakpoints(double t0, double t1) const {

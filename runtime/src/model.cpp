@@ -132,8 +132,7 @@ void Model::rhs_at_event(double t, std::span<const double> x, std::span<const do
 
 void Model::event_indicator_tangent(double, std::span<const double>, std::span<const double>,
                                     std::span<const double>, std::span<const int>,
-                                    std::span<const double>, std::span<const double>,
-                                    std::span<const double>, double, std::span<double>) {
+                                    const EventTangent&, std::span<double>) {
   throw std::logic_error("internal error: Model::event_indicator_tangent called on model '" +
                          info().name + "', which does not provide event tangents");
 }

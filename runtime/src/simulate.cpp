@@ -602,10 +602,13 @@ bool Simulation::handle_event(double t, std::span<const int> crossings, bool tim
   // of delay(), a model without when-clauses) keeps the sensitivities.
   bool without_tangents = false;
   if (sens_method_ != SensitivityMethod::none && !sens_params_.empty()) {
-    if (model_.provides_event_tangents())
-      jump.emplace(model_, t, states(), u_, p_, crossings, sensitivities(), sens_params_);
-    else
+    if (model_.provides_event_tangents()) {
+      std::vector<double> udot(u_.size());  // an input moves with the event time: g_u u̇
+      inputs_.derivative_before(t, udot);
+      jump.emplace(model_, t, states(), u_, udot, p_, crossings, sensitivities(), sens_params_);
+    } else {
       without_tangents = true;
+    }
   }
   for (int iteration = 0;; ++iteration) {
     if (iteration == options_.max_event_iterations) {

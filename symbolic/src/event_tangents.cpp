@@ -36,7 +36,7 @@ ExprMap with_pre(const OdeModel& m, const ExprMap& derivative, const std::vector
   return out;
 }
 
-/// Seeds every state, parameter and time, and the discrete variables with
+/// Seeds every state, input, parameter and time, and the discrete variables with
 /// `seeded[i]`, with a symbol each (appended to t's seed lists).
 ExprMap seed_all(OdeModel& m, const std::vector<bool>& seeded, EventTangents& t) {
   ExprArena& a = m.arena;
@@ -44,6 +44,10 @@ ExprMap seed_all(OdeModel& m, const std::vector<bool>& seeded, EventTangents& t)
   for (std::size_t i = 0; i < m.states.size(); ++i) {
     t.seed_x.push_back(seed(a, "x", i));
     seeds[m.states[i].symbol] = t.seed_x.back();
+  }
+  for (std::size_t i = 0; i < m.inputs.size(); ++i) {
+    t.seed_u.push_back(seed(a, "u", i));
+    seeds[m.inputs[i].symbol] = t.seed_u.back();
   }
   for (std::size_t k = 0; k < m.parameters.size(); ++k) {
     t.seed_p.push_back(seed(a, "p", k));

@@ -3,6 +3,8 @@
 // the jump conditions of docs/events.md) vs (x(p + h) - x(p - h)) / 2h.
 #pragma once
 
+#include <functional>
+
 #include "e2e/support.hpp"
 #include "mo/runtime/simulate.hpp"
 
@@ -30,10 +32,13 @@ inline runtime::SimulationOptions event_options(runtime::SensitivityMethod metho
 /// relative difference step (times max(1e-3, |p|)). Without `cvodes_carries`
 /// (a discrete variable moves with the parameters: only the generated
 /// sensitivity states carry it), REQUIREs that CVODES' run is refused so.
+/// `inputs` makes the model's input signals for each run (none if empty).
 inline EventSensitivityRun run_through_events(const std::string& id, const tools::ModelSource& source,
                                               const std::vector<std::string>& parameters,
                                               const runtime::OutputGrid& grid, double rtol,
-                                              double step, bool cvodes_carries = true) {
+                                              double step, bool cvodes_carries = true,
+                                              const std::function<runtime::Inputs()>& inputs = {}) {
+  auto signals = [&] { return inputs ? inputs() : runtime::Inputs(); };
   auto plain = compiled_model(id, {source, {}});
   auto augmented = compiled_model(id + "_sens", {source, parameters});
   const auto& info = plain->info();
@@ -47,14 +52,14 @@ inline EventSensitivityRun run_through_events(const std::string& id, const tools
   const auto p = info.default_parameters();
   EventSensitivityRun out;
   out.times = grid.times;
-  const auto generated = runtime::simulate(*augmented, {}, augmented->info().default_parameters(), grid,
+  const auto generated = runtime::simulate(*augmented, signals(), augmented->info().default_parameters(), grid,
                                            event_options(runtime::SensitivityMethod::model_states, J_augmented, rtol));
   INFO(generated.message);
   REQUIRE(generated.ok());
   out.generated = generated.state_sensitivities;
   out.event_times = generated.event_times;
   out.restarts = generated.statistics.restarts;
-  const auto cvodes = runtime::simulate(*plain, {}, p, grid,
+  const auto cvodes = runtime::simulate(*plain, signals(), p, grid,
                                         event_options(runtime::SensitivityMethod::cvodes_analytic, J, rtol));
   INFO(cvodes.message);
   if (cvodes_carries) {
@@ -72,9 +77,9 @@ inline EventSensitivityRun run_through_events(const std::string& id, const tools
     auto q = p;
     const double h = step * std::max(1e-3, std::fabs(p[J[j]]));
     q[J[j]] = p[J[j]] + h;
-    const auto plus = runtime::simulate(*plain, {}, q, grid, reference);
+    const auto plus = runtime::simulate(*plain, signals(), q, grid, reference);
     q[J[j]] = p[J[j]] - h;
-    const auto minus = runtime::simulate(*plain, {}, q, grid, reference);
+    const auto minus = runtime::simulate(*plain, signals(), q, grid, reference);
     INFO(plus.message << minus.message);
     REQUIRE(plus.ok());
     REQUIRE(minus.ok());

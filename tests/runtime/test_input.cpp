@@ -4,6 +4,7 @@
 
 #include <catch2/catch.hpp>
 
+#include <memory>
 #include <numbers>
 
 using namespace mo::runtime;
@@ -132,4 +133,37 @@ TEST_CASE("Collocated input: the polynomial through each element's points", "[in
   const auto w = lagrange_weights(points, 0.5);
   CHECK(w[0] + w[1] == Approx(1.0));
   CHECK_THROWS_AS(collocated_input({0.0}, 1.0, points, {1.0}), std::invalid_argument);
+}
+
+TEST_CASE("Input derivatives just before a time: exact slopes, a difference by default", "[input]") {
+  CHECK(constant_input(2.5)->derivative_before(1.0) == 0.0);
+  const double w = 2 * std::numbers::pi * 2.0;
+  CHECK(sine_input(3.0, 2.0, 0.5, 1.0)->derivative_before(0.1) == Approx(3.0 * w * std::cos(w * 0.1 + 0.5)));
+  CHECK(step_input(2.0, 1.0)->derivative_before(1.0) == 0.0);
+  CHECK(pulse_input(1.0, 1.0, 0.5)->derivative_before(0.25) == 0.0);
+  CHECK(piecewise_constant_input({0.0, 1.0}, {1.0, 2.0})->derivative_before(0.5) == 0.0);
+  // A table: the slope of the segment that ends at or after t; 0 where held.
+  auto table = std::make_shared<InputTable>(InputTable{{"u"}, {0.0, 1.0, 3.0}, {{0.0, 2.0, 1.0}}});
+  const auto u = table_input(table, "u");
+  CHECK(u->derivative_before(0.5) == Approx(2.0));
+  CHECK(u->derivative_before(1.0) == Approx(2.0));  // the kink: the slope from the left
+  CHECK(u->derivative_before(2.0) == Approx(-0.5));
+  CHECK(u->derivative_before(5.0) == 0.0);
+  CHECK(u->derivative_before(-1.0) == 0.0);
+  // The default (a collocated input): a one-sided difference, from the left
+  // at an element boundary. t² on [0, 1) (slope 2 at 1), 5 − t after.
+  const std::vector<double> points{1.0 / 3.0, 2.0 / 3.0, 1.0};
+  std::vector<double> values;
+  for (double tau : points) values.push_back(tau * tau);
+  for (double tau : points) values.push_back(5.0 - (1.0 + 2.0 * tau));
+  const auto s = collocated_input({0.0, 1.0}, 3.0, points, values);
+  CHECK(s->derivative_before(1.0) == Approx(2.0).epsilon(1e-5));
+  CHECK(s->derivative_before(2.0) == Approx(-1.0).epsilon(1e-5));
+  Inputs both;
+  both.add(table_input(table, "u"));
+  both.add(shared_input(std::shared_ptr<const InputSignal>(sine_input(1.0, 1.0))));
+  std::vector<double> udot(2);
+  both.derivative_before(2.0, udot);
+  CHECK(udot[0] == Approx(-0.5));
+  CHECK(udot[1] == Approx(2 * std::numbers::pi));
 }

@@ -158,7 +158,7 @@ struct DelayCode {
 struct EventTangentCode {
   int rhs = -1, tangent = -1;
   std::vector<int> whens;              ///< per when-clause, a section index
-  std::vector<Slot> seed_x, seed_p;    ///< δx, δp
+  std::vector<Slot> seed_x, seed_u, seed_p;  ///< δx, δu, δp
   Slot seed_t = 0;                     ///< δt
   std::vector<int> seed_d;             ///< δd per discrete variable: its slot, or -1 (held fixed)
   std::vector<Slot> indicator_slots;   ///< δg_k after `tangent`

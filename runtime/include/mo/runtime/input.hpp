@@ -26,6 +26,10 @@ public:
   [[nodiscard]] virtual double value(double t) const = 0;
   /// lim s(τ) for τ ↑ t: differs from value(t) only at a jump.
   [[nodiscard]] virtual double value_before(double t) const { return value(t); }
+  /// ṡ just before t (the left derivative): how an input moves with an event
+  /// time that moves (the g_u u̇ term of dτ/dp). The default is the one-sided
+  /// difference (value_before(t) − value(t − h))/h, h = 1e-7·max(1, |t|).
+  [[nodiscard]] virtual double derivative_before(double t) const;
   /// Breakpoints in the open interval (t0, t1), ascending, without duplicates.
   [[nodiscard]] virtual std::vector<double> breakpoints(double t0, double t1) const {
     (void)t0, (void)t1;
@@ -121,6 +125,8 @@ public:
   void evaluate(double t, std::span<double> u) const;
   /// u just before t (left limits), for the end of an integration segment.
   void evaluate_before(double t, std::span<double> u) const;
+  /// u̇ just before t (InputSignal::derivative_before).
+  void derivative_before(double t, std::span<double> udot) const;
   /// Union of all signals' breakpoints in (t0, t1), ascending, without duplicates.
   [[nodiscard]] std::vector<double> breakpoints(double t0, double t1) const;
 

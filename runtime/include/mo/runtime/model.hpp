@@ -160,8 +160,9 @@ struct EventResponse {
 };
 
 /// One direction along which the event map is differentiated: the derivative
-/// of (x, p, t) at the event instant, and of the discrete variables that have
-/// discrete sensitivities. handle_event_tangent() updates `x` and `d`.
+/// of (x, p, t) at the event instant, of the inputs (u̇ δt as the event time
+/// moves) and of the discrete variables that have discrete sensitivities.
+/// handle_event_tangent() updates `x` and `d`.
 struct EventTangent {
   std::span<double> x;         ///< δx, nx values; on return δx after the handler call
   std::span<const double> p;   ///< δp, np values
@@ -169,6 +170,7 @@ struct EventTangent {
   /// δd, nd values (or empty: all 0). Read and updated only for the discrete
   /// variables d of ModelInfo::discrete_sensitivities; 0 for the others.
   std::span<double> d = {};
+  std::span<const double> u = {};  ///< δu, nu values (or empty: all 0)
 };
 
 /// A model compiled to C++: generated code derives from this class.
@@ -281,17 +283,15 @@ public:
   virtual void rhs_at_event(double t, std::span<const double> x, std::span<const double> u,
                             std::span<const double> p, std::span<const int> relations_from,
                             std::span<double> xdot);
-  /// dg = g_x dx + g_d dd + g_p dp + g_t dt for every indicator (inputs held
-  /// fixed; `dd` as EventTangent::d), relations valued as in rhs_at_event.
+  /// dg = g_x δx + g_d δd + g_u δu + g_p δp + g_t δt for every indicator,
+  /// along `direction` (not changed), relations valued as in rhs_at_event.
   /// Throws std::logic_error (an internal error) unless provides_event_tangents().
   virtual void event_indicator_tangent(double t, std::span<const double> x,
                                        std::span<const double> u, std::span<const double> p,
                                        std::span<const int> relations_from,
-                                       std::span<const double> dx, std::span<const double> dp,
-                                       std::span<const double> dd, double dt,
-                                       std::span<double> dg);
+                                       const EventTangent& direction, std::span<double> dg);
   /// handle_event(), and carries each direction through it: a reinitialised
-  /// state's δx becomes r_x δx + r_d δd + r_p δp + r_t δt, and an assigned
+  /// state's δx becomes r_x δx + r_d δd + r_u δu + r_p δp + r_t δt, and an assigned
   /// discrete variable with discrete sensitivities its δd likewise. If a
   /// fired when-clause assigns another discrete variable a value with a
   /// nonzero derivative, `unsupported` names it (its sensitivity is not
