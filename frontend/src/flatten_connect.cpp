@@ -48,7 +48,7 @@ bool Flattener::through_disabled(const ast::ComponentRef &ref, const Scope &s) c
   return false;
 }
 
-void Flattener::connect(const ast::Equation &eq, const Scope &s) {
+void Flattener::connect(const ast::Equation &eq, const Scope &s, bool graph_only) {
   std::vector<Instance *> side[2];
   std::vector<int> dims[2];
   bool outside[2];
@@ -73,11 +73,12 @@ void Flattener::connect(const ast::Equation &eq, const Scope &s) {
   if (side[0].size() != side[1].size())
     fail(DiagId::ConnectIncompatible, eq.range,
          fmt::format("connect() of {} connector(s) to {}", side[0].size(), side[1].size()));
-  for (const auto &named : side)
-    for (const Instance *i : named)
-      ++connect_count_[i];
+  if (!graph_only)
+    for (const auto &named : side)
+      for (const Instance *i : named)
+        ++connect_count_[i];
   for (std::size_t i = 0; i < side[0].size(); ++i)
-    connect_pair(side[0][i], outside[0], side[1][i], outside[1], eq.range);
+    connect_pair(side[0][i], outside[0], side[1][i], outside[1], eq.range, graph_only);
 }
 
 bool Flattener::only_connections(const ast::Equation &eq) {
@@ -91,7 +92,8 @@ bool Flattener::only_connections(const ast::Equation &eq) {
   return true;
 }
 
-void Flattener::connect_pair(Instance *a, bool a_out, Instance *b, bool b_out, SourceRange where) {
+void Flattener::connect_pair(Instance *a, bool a_out, Instance *b, bool b_out, SourceRange where,
+                             bool graph_only) {
   // Walk both connector trees in step.
   std::vector<std::pair<Instance *, Instance *>> work{{a, b}};
   while (!work.empty()) {
@@ -108,14 +110,18 @@ void Flattener::connect_pair(Instance *a, bool a_out, Instance *b, bool b_out, S
       if (x->causality == ast::Causality::Output && y->causality == ast::Causality::Output && !a_out && !b_out)
         fail(DiagId::ConnectIncompatible, where,
              "cannot connect two outputs '" + x->flat + "' and '" + y->flat + "'");
-      connections_.emplace_back(2 * x->var + (a_out ? 1 : 0), 2 * y->var + (b_out ? 1 : 0));
-      connection_ranges_.push_back(where);
+      if (!graph_only) {
+        connections_.emplace_back(2 * x->var + (a_out ? 1 : 0), 2 * y->var + (b_out ? 1 : 0));
+        connection_ranges_.push_back(where);
+      }
       continue;
     }
     if (x->dims != y->dims)
       fail(DiagId::ConnectIncompatible, where,
            "cannot connect '" + x->flat + "' and '" + y->flat + "': their array sizes differ");
-    if (is_overdetermined(*x) && is_overdetermined(*y)) // an edge of the connection graph too (MLS 9.4)
+    // An edge of the connection graph too (MLS 9.4); once the graph is
+    // closed, a connect inside an if-equation gave its edges already.
+    if (!graph_closed_ && is_overdetermined(*x) && is_overdetermined(*y))
       graph_.connections.push_back({x, y, where});
     if (!x->dims.empty()) {
       for (std::size_t i = 0; i < x->elements.size(); ++i)

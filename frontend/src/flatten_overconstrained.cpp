@@ -2,10 +2,11 @@
 // Connections.root / potentialRoot / branch and of the connections between
 // overdetermined records (those that declare an equalityConstraint
 // function, MultiBody's Frames.Orientation), its roots and spanning tree,
-// and Connections.isRoot / rooted read from them. The statements are
-// collected in the connections' pass (Flattener::flatten_equations) through
-// if-equations on parameters and for-loops; the graph is closed before the
-// other equations, which read it (and skip the statements).
+// and Connections.isRoot / rooted read from them. The statements, and the
+// edges of connect()s inside if-equations, are collected in the connections'
+// pass (Flattener::flatten_equations) through if-equations on parameters and
+// for-loops; the graph is closed before the other equations, which read it
+// (and skip the statements).
 //
 // The spanning trees take every branch (a required edge, MLS 9.4.2), then the
 // connections that join parts not joined yet; each tree has one definite
@@ -106,15 +107,16 @@ void Flattener::connections_statement(const ast::Equation &eq, const Scope &s) {
 
 namespace {
 
-bool contains_graph_statement(const ast::Equation &eq) {
-  if (is_connections_statement(eq))
+/// A Connections statement, or with `connects` a connect(), in `eq`.
+bool contains_graph_statement(const ast::Equation &eq, bool connects = true) {
+  if (is_connections_statement(eq) || (connects && eq.kind == ast::EquationKind::Connect))
     return true;
   for (const auto &b : eq.branches)
     for (const auto &x : b.body)
-      if (contains_graph_statement(x))
+      if (contains_graph_statement(x, connects))
         return true;
   for (const auto &x : eq.body)
-    if (contains_graph_statement(x))
+    if (contains_graph_statement(x, connects))
       return true;
   return false;
 }
@@ -124,14 +126,33 @@ bool contains_graph_statement(const ast::Equation &eq) {
 void Flattener::collect_graph_statements(const ast::Equation &eq, const Scope &s) {
   if (!contains_graph_statement(eq))
     return;
+  if (!graph_probe_ && !contains_graph_statement(eq, false)) {
+    // connect()s only: their edges, silently. Flattening the equation later
+    // reports what is wrong with it, once.
+    const DiagnosticEngine::Mark mark = diags_.mark();
+    graph_probe_ = true;
+    try {
+      collect_graph_statements(eq, s);
+    } catch (Reported &) {
+    }
+    graph_probe_ = false;
+    diags_.rollback(mark);
+    return;
+  }
   if (is_connections_statement(eq)) {
     connections_statement(eq, s);
+    return;
+  }
+  if (eq.kind == ast::EquationKind::Connect) { // its equations come with the if-equation's
+    connect(eq, s, true);
     return;
   }
   if (eq.kind == ast::EquationKind::If) {
     for (const auto &b : eq.branches) {
       if (b.condition) {
         ast::ExprPtr c = scalar_expr(*b.condition, s);
+        if (!is_constant(*c) && !contains_graph_statement(eq, false))
+          return; // connect()s alone: flattening the if-equation reports the condition
         if (!is_constant(*c))
           fail(DiagId::Unsupported, b.condition->range,
                "Connections.root/potentialRoot/branch under a condition that is not a parameter is not supported "

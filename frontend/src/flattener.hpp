@@ -622,7 +622,9 @@ public:
   void equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
   void tuple_equation(const ast::Equation &eq, const Scope &s, std::vector<ast::Equation> &out);
   void equal_elements(const ast::Equation &eq, Tensor &l, Tensor &r, std::vector<ast::Equation> &out);
-  void connect(const ast::Equation &eq, const Scope &s);
+  /// `graph_only`: only the edges of the connection graph (a connect inside
+  /// an if-equation, seen before the graph is closed; its equations come later).
+  void connect(const ast::Equation &eq, const Scope &s, bool graph_only = false);
   /// True if `eq` is a connect(), or a for-loop of nothing but connect()s
   /// (flattened before the other equations, so that cardinality() sees them).
   static bool only_connections(const ast::Equation &eq);
@@ -653,8 +655,9 @@ public:
   /// Runs `body` once per iteration of the for-equation `eq` (nested
   /// indices, the last innermost), with a scope that binds the indices.
   void for_each_iteration(const ast::Equation &eq, const Scope &s, const std::function<void(const Scope &)> &body);
-  /// Records the Connections statements of `eq`, through if-equations on
-  /// parameters (the branch taken) and for-loops.
+  /// Records the Connections statements of `eq`, and the graph edges of its
+  /// connect()s, through if-equations on parameters (the branch taken) and
+  /// for-loops.
   void collect_graph_statements(const ast::Equation &eq, const Scope &s);
   /// Chooses the roots and the spanning trees, and the connections to break
   /// (graph_.broken); reports branches that close a loop or join two definite
@@ -669,6 +672,7 @@ public:
   bool connections_query(const ast::Expr &call, const Scope &s);
   OverconstrainedGraph graph_;
   bool graph_closed_ = false;
+  bool graph_probe_ = false;  ///< collecting the edges of connect()s in if-equations, diagnostics rolled back
 
   // -- shared state
   Library::Impl &lib_;
@@ -703,7 +707,9 @@ public:
   // see flatten_connect.cpp.
   std::vector<std::pair<std::int32_t, std::int32_t>> connections_;
   std::vector<SourceRange> connection_ranges_;
-  void connect_pair(Instance *a, bool a_outside, Instance *b, bool b_outside, SourceRange where);
+  /// `graph_only`: the pair's graph edges, no connection equations.
+  void connect_pair(Instance *a, bool a_outside, Instance *b, bool b_outside, SourceRange where,
+                    bool graph_only = false);
   /// True if `ref` passes through a conditional component that is switched
   /// off (in every element, where it passes through an array of components).
   bool through_disabled(const ast::ComponentRef &ref, const Scope &s) const;

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <functional>
+#include <numbers>
 #include <sstream>
 
 #include "e2e/support.hpp"
@@ -135,6 +136,34 @@ TEST_CASE("the MSL's QuasiStationary SeriesResonance draws its phasor current", 
     INFO("t = " << grid.times[k]);
     CHECK(magnitude[k] == Approx(1 / std::sqrt(0.01 + x * x)).epsilon(1e-9));
     CHECK(angle[k] == Approx(-std::atan(x / 0.1)).epsilon(1e-9).margin(1e-12));
+  }
+}
+
+// In per unit of the transformer's rating the load is 1 (resistive) and the
+// short-circuit impedance r + jx with r = P_sc/S = 0.01 and |r + jx| = v_sc
+// = 0.05, so the load's line voltage is 100 V / |1 + r + jx|, and the vector
+// group 1 turns it by −30° besides the impedance's −atan(x / (1 + r)).
+// Before the connect()s inside the Deltas' if-equations were edges of the
+// connection graph, the model had 9 equations too many.
+TEST_CASE("the MSL's QuasiStationary TransformerTestbench: a Yd01 transformer at rated load", "[msl]") {
+  const std::string name = "e2e_msl_qs_transformer_testbench";
+  auto model =
+      msl_compiled_model(name, {{kData + "MslQuasiStationary.mo", "TransformerTestbench", {}, true}, {}, true});
+  if (!model) return;
+  const auto grid = runtime::OutputGrid::uniform(0, 1, 4);
+  const auto p = model->info().default_parameters();
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const double pu_r = 0.01, pu_x = std::sqrt(0.05 * 0.05 - pu_r * pu_r);
+  const auto vs = variable(name, r.trajectory, p, "VS");
+  const auto vl = variable(name, r.trajectory, p, "VL");
+  const auto phi_s = variable(name, r.trajectory, p, "phiS");
+  const auto phi_l = variable(name, r.trajectory, p, "phiL");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    CHECK(vs[k] == Approx(100).epsilon(1e-12));
+    CHECK(vl[k] == Approx(100 / std::hypot(1 + pu_r, pu_x)).epsilon(1e-9));
+    CHECK(phi_l[k] - phi_s[k] == Approx(-std::numbers::pi / 6 - std::atan(pu_x / (1 + pu_r))).epsilon(1e-9));
   }
 }
 

@@ -405,6 +405,77 @@ end Sink;
   CHECK(printed.find("  `a.p.v` = `b.p.v`;\n") != std::string::npos);
 }
 
+// The MSL's QuasiStationary Delta connects its pins in a polygon by
+// `for j loop if j < m then connect(...) else connect(...)`: the connections
+// inside the if-equation close loops of the graph too, and are broken.
+TEST_CASE("connect()s inside an if-equation close loops of the connection graph too", "[flatten]") {
+  Compiled c = compile({{"RefPin.mo", kRefPin}, {"M.mo", R"(
+model Element "a branch between its two pins"
+  Pin p;
+  Pin n;
+equation
+  Connections.branch(p.reference, n.reference);
+  n.reference.theta = p.reference.theta;
+  p.i + n.i = 0;
+  p.v - n.v = p.i;
+end Element;
+model Ground
+  Pin p;
+equation
+  Connections.root(p.reference);
+  p.reference.theta = 0;
+  p.v = 0;
+end Ground;
+model Polygon "three elements in a ring, grounded"
+  parameter Integer m = 3;
+  Element e[m];
+  Ground g;
+equation
+  connect(g.p, e[1].p);
+  for j in 1:m loop
+    if j < m then
+      connect(e[j].n, e[j + 1].p);
+    else
+      connect(e[j].n, e[1].p);
+    end if;
+  end for;
+end Polygon;
+)"}},
+                       "Polygon");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  const std::string printed = c.model->print();
+  INFO(printed);
+  // The ring's last connection closes the loop: no theta equation, its
+  // potential and flow equations stay (in the ground's connection set).
+  CHECK(printed.find("`e[3].n.reference.theta` = `e[1].p.reference.theta`") == std::string::npos);
+  CHECK(printed.find("`e[3].n.reference.theta`") != std::string::npos);
+  CHECK(printed.find("`e[1].n.reference.theta` = `e[2].p.reference.theta`") != std::string::npos);
+  CHECK(printed.find("`g.p.v` = `e[3].n.v`") != std::string::npos);
+  CHECK(printed.find("`g.p.i` + `e[1].p.i` + `e[3].n.i` = 0.") != std::string::npos);
+}
+
+TEST_CASE("a connect() inside an if-equation with an error is reported once", "[flatten]") {
+  Compiled c = compile({{"RefPin.mo", kRefPin}, {"M.mo", R"(
+model Bad
+  parameter Boolean on = true;
+  Pin a;
+  Pin b;
+equation
+  if on then
+    connect(a, nowhere);
+  end if;
+end Bad;
+)"}},
+                       "Bad");
+  CHECK_FALSE(c.ok());
+  const std::string& d = c.diagnostics;
+  INFO(d);
+  const auto first = d.find("unknown connector 'nowhere'");
+  REQUIRE(first != std::string::npos);
+  CHECK(d.find("unknown connector 'nowhere'", first + 1) == std::string::npos);
+}
+
 // SIunits.ComplexVoltage is `operator record ComplexVoltage = Complex(redeclare
 // Voltage re, redeclare Voltage im)`: a field the short class redeclares takes
 // its part of the record's binding like any other.

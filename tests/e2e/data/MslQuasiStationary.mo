@@ -9,3 +9,11 @@
 model SeriesResonance
   extends Modelica.Electrical.QuasiStationary.SinglePhase.Examples.SeriesResonance;
 end SeriesResonance;
+
+// A three-phase transformer Yd01 (100 V / 100 V, 30 kVA, v_sc = 5 %,
+// P_sc = 300 W) between a star source and a star load of its rated
+// impedance; its Delta connects its pins by connect()s inside an
+// if-equation in a for-loop, which close loops of the graph.
+model TransformerTestbench
+  extends Modelica.Electrical.QuasiStationary.Machines.Examples.TransformerTestbench;
+end TransformerTestbench;

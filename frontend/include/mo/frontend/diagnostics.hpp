@@ -56,6 +56,21 @@ public:
   /// The files the diagnostics' ranges point into.
   const SourceManager &sources() const { return sources_; }
 
+  /// What has been reported so far, to roll back to.
+  struct Mark {
+    std::size_t size;
+    unsigned errors;
+    bool truncated;
+  };
+  Mark mark() const { return {diags_.size(), error_count_, truncated_}; }
+  /// Forgets what was reported since `m`: a look ahead whose findings are
+  /// reported again where they belong.
+  void rollback(const Mark &m) {
+    diags_.resize(m.size);
+    error_count_ = m.errors;
+    truncated_ = m.truncated;
+  }
+
   /// Prints every diagnostic in the order reported, clang style.
   void print(std::ostream &os) const;
   /// One diagnostic as text (used by print and by tests).
