@@ -288,13 +288,11 @@ std::string when_tables(const Program& p) {
 
 /// Tables of Program::samples (null arrays without sample()).
 std::string sample_tables(const Program& p) {
-  std::vector<int> flag, start, interval, param_start{0}, params;
+  std::vector<int> flag, start, interval;
   for (const auto& smp : p.samples) {
     flag.push_back(smp.flag);
     start.push_back(static_cast<int>(smp.start));
     interval.push_back(static_cast<int>(smp.interval));
-    params.insert(params.end(), smp.parameters.begin(), smp.parameters.end());
-    param_start.push_back(static_cast<int>(params.size()));
   }
   auto ints = [](const std::string& n, const std::vector<int>& v) {
     return array("int", n, v, [](int x) { return std::to_string(x); });
@@ -302,8 +300,7 @@ std::string sample_tables(const Program& p) {
   return fmt::format("constexpr std::size_t nsample = {};\nconstexpr int samples_section = {};\n",
                      p.samples.size(), p.samples_section) +
          ints("sample_flag", flag) + ints("sample_start_slot", start) +
-         ints("sample_interval_slot", interval) + ints("sample_param_start", param_start) +
-         ints("sample_params", params);
+         ints("sample_interval_slot", interval);
 }
 
 /// Tables of Program::delays (DelayCode).
@@ -342,6 +339,8 @@ std::string event_tangent_tables(const Program& p) {
   out += slot_array("indicator_tangent_slots", e.indicator_slots);
   out += slot_array("assign_tangent_slots", e.assign_slots);
   out += slot_array("reinit_tangent_slots", e.reinit_slots);
+  out += slot_array("sample_start_tangent_slots", e.sample_start_slots);
+  out += slot_array("sample_interval_tangent_slots", e.sample_interval_slots);
   return out;
 }
 

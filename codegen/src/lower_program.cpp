@@ -283,11 +283,7 @@ private:
       code.flag = smp.flag;
       code.start = b.root(smp.start, s);
       code.interval = b.root(smp.interval, s);
-      const Expr roots[] = {smp.start, smp.interval};
-      for (Expr leaf : symbolic::leaves(arena(), roots))
-        if (arena().kind(leaf) == ExprKind::Symbol && arena().symbol_info(leaf).role == SymbolRole::Parameter)
-          code.parameters.push_back(arena().symbol_info(leaf).index);
-      p_.samples.push_back(std::move(code));
+      p_.samples.push_back(code);
     }
   }
 
@@ -449,6 +445,11 @@ private:
     emit_steps(bt, code.tangent, t.directional.steps, "event tangent");
     for (Expr g : t.indicators)
       code.indicator_slots.push_back(bt.root(g, p_.sections[static_cast<std::size_t>(code.tangent)]));
+    for (std::size_t i = 0; i < t.sample_starts.size(); ++i) {
+      Section& s = p_.sections[static_cast<std::size_t>(code.tangent)];
+      code.sample_start_slots.push_back(bt.root(t.sample_starts[i], s));
+      code.sample_interval_slots.push_back(bt.root(t.sample_intervals[i], s));
+    }
     for (const auto& w : t.whens) {
       int index = -1;
       new_section("when_tangent" + std::to_string(code.whens.size()), index);

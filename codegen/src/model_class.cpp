@@ -356,13 +356,6 @@ public:
     if (event_rhs_section < 0) return mo::runtime::Model::handle_event_tangent(cause, x, u, p, directions, unsupported);
     const std::vector<double> x_before(x.begin(), x.end());
     const mo::runtime::EventResponse response = handle_event(cause, x, u, p);
-    for (std::size_t i = 0; i < nsample && unsupported.empty(); ++i) {
-      if (!sample_tick(i, cause.t)) continue;
-      for (const mo::runtime::EventTangent& dir : directions)
-        for (int k = sample_param_start[i]; k < sample_param_start[i + 1]; ++k)
-          if (dir.p[static_cast<std::size_t>(sample_params[k])] != 0.0 && unsupported.empty())
-            unsupported = info().discrete[static_cast<std::size_t>(sample_flag[i])].name;
-    }
     const std::vector<double> d_after(w_.begin() + d_slot, w_.begin() + d_slot + nd);
     std::copy(x_before.begin(), x_before.end(), w_.begin() + x_slot);
     for (std::size_t i = 0; i < nd; ++i) w_[d_slot + i] = w_[pre_d_slot + i];
@@ -371,6 +364,33 @@ public:
     for (mo::runtime::EventTangent& dir : directions) when_tangents(fired_, dir, unsupported);
     std::copy(d_after.begin(), d_after.end(), w_.begin() + d_slot);
     return response;
+  }
+
+  // δτ of the sample() ticks at t: δstart + k·δinterval, the same for every
+  // sample that ticks there (else NaN); 0 without a tick.
+  double time_event_tangent(double t, std::span<const double> x, std::span<const double> u,
+                            std::span<const double> p, const mo::runtime::EventTangent& direction) override {
+    if (event_rhs_section < 0) return 0.0;
+    bool any = false;
+    for (std::size_t i = 0; i < nsample; ++i) any = any || sample_tick(i, t);
+    if (!any) return 0.0;
+    load(t, x, u, p);
+    std::fill(relations_.begin(), relations_.end(), 0);
+    run(event_rhs_section, relations_.data());
+    seed_event(direction);
+    run(event_tangent_section, relations_.data());
+    double tau = 0.0;
+    bool first = true;
+    for (std::size_t i = 0; i < nsample; ++i) {
+      double k = 0.0;
+      if (!sample_tick(i, t, &k)) continue;
+      const double d = w_[static_cast<std::size_t>(sample_start_tangent_slots[i])] +
+                       k * w_[static_cast<std::size_t>(sample_interval_tangent_slots[i])];
+      if (!first && d != tau) return std::numeric_limits<double>::quiet_NaN();
+      tau = d;
+      first = false;
+    }
+    return tau;
   }
 
   // The clauses that fired at initialisation, at the state initial_state()

@@ -1,6 +1,7 @@
 // Sensitivity jumps at events; see event_sensitivity.hpp.
 #include "event_sensitivity.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 namespace mo::runtime::detail {
@@ -82,9 +83,17 @@ SensitivityJump::SensitivityJump(Model& model, double t, std::span<const double>
     for (Eigen::Index i = 0; i < rows_; ++i)
       dx_[j][static_cast<std::size_t>(i)] = s(i, static_cast<Eigen::Index>(j));
     dp_[j][static_cast<std::size_t>(params[j])] = 1.0;
-    if (g < 0) continue;
-    model.event_indicator_tangent(t, x, u, p, before, {dx_[j], dp_[j], 0.0, dd_[j]}, dg);
-    tau_[j] = -dg[static_cast<std::size_t>(g)] / slope[static_cast<std::size_t>(g)];
+    if (g >= 0) {
+      model.event_indicator_tangent(t, x, u, p, before, {dx_[j], dp_[j], 0.0, dd_[j]}, dg);
+      tau_[j] = -dg[static_cast<std::size_t>(g)] / slope[static_cast<std::size_t>(g)];
+    } else if (std::all_of(crossings.begin(), crossings.end(), [](int c) { return c == 0; })) {
+      // A time event: a sample() tick whose start or interval moves with p.
+      tau_[j] = model.time_event_tangent(t, x, u, p, {dx_[j], dp_[j], 0.0, dd_[j]});
+      if (!std::isfinite(tau_[j])) {
+        failure_ = "sample() ticks at this time move apart with the parameters";
+        tau_[j] = 0.0;
+      }
+    }
     for (std::size_t i = 0; i < static_cast<std::size_t>(rows_); ++i)
       dx_[j][i] += f_before[i] * tau_[j];
     for (double v : udot) du_[j].push_back(v * tau_[j]);

@@ -25,7 +25,8 @@ namespace mo::runtime::detail {
 class SensitivityJump {
 public:
   /// `s`: S⁻, column j = ∂x/∂p_{params[j]} for the first s.rows() states.
-  /// `crossings` empty for a time event (its time does not depend on p).
+  /// `crossings` empty (or all 0) for a time event: its time moves with p only
+  /// at a sample() tick (Model::time_event_tangent).
   /// `udot`: the inputs' derivatives just before t (empty: all 0).
   /// Requires model.provides_event_tangents().
   SensitivityJump(Model& model, double t, std::span<const double> x, std::span<const double> u,
@@ -46,11 +47,15 @@ public:
   /// sensitivities (f_x s + f_p) cannot carry it.
   [[nodiscard]] std::string moved_discrete() const;
 
-  /// dτ/dp_j per direction (0 for a time event or a tangential crossing).
+  /// dτ/dp_j per direction (0 for a tangential crossing or a time event that is
+  /// no sample() tick moving with p).
   [[nodiscard]] const std::vector<double>& event_time_derivatives() const { return tau_; }
   /// A discrete variable whose value depends on x, p or t through a fired
   /// when-clause (its sensitivity is not carried); empty if none.
   [[nodiscard]] const std::string& unsupported() const { return unsupported_; }
+  /// Why the jump cannot be taken (the time event's dτ/dp is not defined),
+  /// or empty.
+  [[nodiscard]] const std::string& failure() const { return failure_; }
 
 private:
   Model& model_;
@@ -59,7 +64,7 @@ private:
   std::vector<int> params_;
   std::vector<std::vector<double>> dx_, dp_, dd_, du_;
   std::vector<double> tau_;
-  std::string unsupported_;
+  std::string unsupported_, failure_;
 };
 
 /// S_d(t0): carries the directions (S(t0), e_p, 0) through the when-clauses

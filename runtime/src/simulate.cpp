@@ -697,6 +697,11 @@ bool Simulation::discrete_sensitivities_carried(double t, const std::string& uns
 
 // S⁺ after the handler: written back where S⁻ was read from.
 bool Simulation::apply_jump(double t, detail::SensitivityJump& jump) {
+  if (!jump.failure().empty()) {
+    fail(SimulationStatus::invalid_problem,
+         fmt::format("event at t = {}: {}; sensitivities through it are not supported", t, jump.failure()));
+    return false;
+  }
   if (!discrete_sensitivities_carried(t, jump.unsupported(), jump.moved_discrete())) return false;
   jump.finish_discrete();
   const Eigen::MatrixXd sx = jump.finish(t, states(), u_, p_);

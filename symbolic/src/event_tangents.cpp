@@ -113,6 +113,10 @@ EventTangents event_tangents(OdeModel& m) {
   std::vector<Expr> roots(m.zero_crossings);
   const std::vector<Expr> values = when_values(m);
   roots.insert(roots.end(), values.begin(), values.end());
+  for (const OdeSample& smp : m.samples) {
+    roots.push_back(smp.start);
+    roots.push_back(smp.interval);
+  }
   const ExprMap map = with_pre(m, t.directional.derivative, roots);
   // One call for all rows: linear in the model's size.
   const std::vector<Expr> d = forward_derivative(a, roots, map, false);
@@ -123,6 +127,10 @@ EventTangents event_tangents(OdeModel& m) {
     for (std::size_t i = 0; i < w.assignments.size(); ++i) wt.assignments.push_back(d[k++]);
     for (std::size_t i = 0; i < w.reinits.size(); ++i) wt.reinits.push_back(d[k++]);
     t.whens.push_back(std::move(wt));
+  }
+  for (std::size_t i = 0; i < m.samples.size(); ++i) {
+    t.sample_starts.push_back(d[k++]);
+    t.sample_intervals.push_back(d[k++]);
   }
   return t;
 }

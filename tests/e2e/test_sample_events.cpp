@@ -2,6 +2,7 @@
 // and `initial equation pre(y) = y_start` (issue 12, the MSL's Blocks.Sources,
 // MathInteger and Logical blocks), each against its exact solution.
 #include "e2e/cli.hpp"
+#include "e2e/event_sensitivity_check.hpp"
 #include "e2e/support.hpp"
 #include "mo/runtime/simulate.hpp"
 
@@ -78,7 +79,7 @@ TEST_CASE("sample(): a run that starts at t0 > 0 ticks at t0 only if t0 is a tic
   CHECK(discrete_value(*model, "m") == 0.0);  // x stays below 0.52
 }
 
-TEST_CASE("sample(): the ticks move with a parameter interval - sensitivities to it are refused") {
+TEST_CASE("sample(): the ticks move with a parameter interval and start - sensitivities through them") {
   auto model = compiled_model("e2e_sample_clock", {{kData + "SampleClock.mo", "", {}, true}, {}});
   auto p = model->info().default_parameters();
   p[parameter(model->info(), "T")] = 0.3;
@@ -88,14 +89,35 @@ TEST_CASE("sample(): the ticks move with a parameter interval - sensitivities to
   CHECK(discrete_value(*model, "n") == 4.0);  // t = 0, 0.3, 0.6, 0.9
   CHECK(has_time(r.event_times, 3 * 0.3));
 
+  // SampleTicks: tick k of sample(t1, T) is at t1 + k T: dτ/dT = k, dτ/dt1 = 1. y integrates
+  // the counter n of sample(0, T), so d(y)/d(T) jumps by -k at tick k; the
+  // hold xs = x at the ticks of sample(t1, T) has d(xs)/d(p) = dτ/dp (x = t), a
+  // discrete sensitivity (CVODES' run is refused). The grid (k/37) keeps more
+  // than 1e-3 from every tick.
+  const auto run = run_through_events("e2e_sample_ticks_sens", {kData + "SampleTicks.mo", "", {}, true},
+                                      {"T", "t1", "a"}, runtime::OutputGrid::uniform(0, 1.0, 37), 1e-10, 1e-4, false);
+  const double worst = worst_relative(run, run.generated, 1e-3, 1e-4);
+  WARN("SampleTicks: sensitivities to T, t1 and a vs central differences, worst relative difference " << worst);
+  CHECK(worst < 1e-4);
+  // y(t) = Σ (t - k T) over the ticks k T <= t, so d(y)/d(T) = -Σ k: at t = 36/37,
+  // after the ticks k = 0..9, -45; t1 moves no tick of n.
+  REQUIRE(run.times[36] == Approx(36.0 / 37.0));
+  const auto& s = run.generated[36];
+  const std::size_t y = *model->info().state_index("y");  // the same order in SampleTicks
+  REQUIRE(y == 1);
+  CHECK(s(static_cast<Eigen::Index>(y), 0) == Approx(-45.0).margin(1e-6));
+  CHECK(s(static_cast<Eigen::Index>(y), 1) == Approx(0.0).margin(1e-9));
+
+  // In SampleClock, sample(t1, T) ticks with sample(0, 0.25) at t = 0.25; moved
+  // by T they part, and the two events' jumps are not one: refused there.
   auto with_s = compiled_model("e2e_sample_clock_sT", {{kData + "SampleClock.mo", "", {}, true}, {"T"}});
-  const auto ps = with_s->info().default_parameters();
   auto options = tight();
   options.sensitivities.method = runtime::SensitivityMethod::model_states;
-  const auto rs = runtime::simulate(*with_s, {}, ps, runtime::OutputGrid::uniform(0, 1.0, 4), options);
+  const auto rs = runtime::simulate(*with_s, {}, with_s->info().default_parameters(),
+                                    runtime::OutputGrid::uniform(0, 1.0, 4), options);
   INFO(rs.message);
-  CHECK_FALSE(rs.ok());
-  CHECK(rs.message.find("'sample(t1, T)'") != std::string::npos);  // the first tick, t = 0.05
+  CHECK(rs.status == runtime::SimulationStatus::invalid_problem);
+  CHECK(rs.message.find("event at t = 0.25: sample() ticks at this time move apart") != std::string::npos);
 }
 
 TEST_CASE("when {a, b, c} fires when any element becomes true, once per instant") {

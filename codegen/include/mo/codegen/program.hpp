@@ -132,7 +132,6 @@ struct WhenCode {
 struct SampleCode {
   int flag = -1;           ///< index of its flag in the discrete variables
   Slot start = 0, interval = 0;
-  std::vector<int> parameters;  ///< parameters start or interval reads (event times move with them)
 };
 
 /// A delay(e, T, Tmax) (symbolic ExprKind::Delay): load() puts its value,
@@ -164,6 +163,7 @@ struct EventTangentCode {
   std::vector<Slot> indicator_slots;   ///< δg_k after `tangent`
   std::vector<Slot> assign_slots;      ///< δ(value) per assignment, in WhenCode order
   std::vector<Slot> reinit_slots;      ///< δ(value) per reinit, in WhenCode order
+  std::vector<Slot> sample_start_slots, sample_interval_slots;  ///< δstart, δinterval per sample()
 };
 
 /// Where the fixed variables live.

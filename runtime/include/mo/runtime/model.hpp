@@ -301,6 +301,15 @@ public:
                                              std::span<const double> p,
                                              std::span<EventTangent> directions,
                                              std::string& unsupported);
+  /// dτ along `direction` of a time event at t that sample() ticks cause:
+  /// δstart + k·δinterval of the tick k (start and interval over the
+  /// parameters); 0 without a tick at t or event tangents; NaN if two
+  /// samples ticking at t move apart.
+  virtual double time_event_tangent(double t, std::span<const double> x, std::span<const double> u,
+                                    std::span<const double> p, const EventTangent& direction) {
+    (void)t, (void)x, (void)u, (void)p, (void)direction;
+    return 0.0;
+  }
   /// After initial_state(): carries each direction (δx = ∂x0/∂p) through the
   /// when-clauses that fired in the event at initialisation, updating `d` as
   /// handle_event_tangent does (`unsupported` likewise). Does nothing for a

@@ -41,6 +41,9 @@ struct EventTangents {
   Directional directional;   ///< steps computing the step targets' derivatives
   std::vector<Expr> indicators;  ///< δg per zero crossing
   std::vector<WhenTangent> whens;  ///< per when-clause
+  /// δstart and δinterval per sample(): a tick start + k·interval moves by
+  /// δstart + k·δinterval.
+  std::vector<Expr> sample_starts, sample_intervals;
 };
 
 /// Builds the event tangents of `model` in model.arena (seed symbols are new
