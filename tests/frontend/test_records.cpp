@@ -19,6 +19,13 @@ end Pt;
 
 Compiled with_pt(const std::string &model) { return compile({{"Pt.mo", kPt}, {"M.mo", model}}, "M"); }
 
+/// The flat model's text; REQUIREs that it compiled.
+std::string printed_model(const Compiled &c) {
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  return c.model->print();
+}
+
 } // namespace
 
 TEST_CASE("records: a binding binds each field - a constructor's default reads the fields before it",
@@ -271,9 +278,7 @@ model M
 end M;
 )"}},
                        "M");
-  INFO(c.diagnostics);
-  REQUIRE(c.ok());
-  const std::string printed = c.model->print();
+  const std::string printed = printed_model(c);
   INFO(printed);
   for (const char *eq : {"  `x.a` = time;\n", "  `x.b` = 1;\n", "  `square.a` = `x.a` * `x.a`;\n",
                          "  `square.b` = `x.a` * `x.b` + `x.b` * `x.a`;\n", "  `shifted.a` = 3 + `x.a` - 1;\n",
@@ -321,9 +326,7 @@ equation
 end M;
 )"}},
                        "M");
-  INFO(c.diagnostics);
-  REQUIRE(c.ok());
-  const std::string printed = c.model->print();
+  const std::string printed = printed_model(c);
   INFO(printed);
   CHECK(printed.find("  `s.y.a` = `t.u.a`;\n") != std::string::npos);
   CHECK(printed.find("  `s.y.b` = `t.u.b`;\n") != std::string::npos);
@@ -396,9 +399,7 @@ equation
 end Sink;
 )"}},
                        "Sink");
-  INFO(c.diagnostics);
-  REQUIRE(c.ok());
-  const std::string printed = c.model->print();
+  const std::string printed = printed_model(c);
   INFO(printed);
   CHECK(printed.find("`a.p.reference.theta` = `b.p.reference.theta`") == std::string::npos);
   CHECK(printed.find("`a.n.reference.theta` = `b.n.reference.theta`") == std::string::npos);
@@ -442,9 +443,7 @@ equation
 end Polygon;
 )"}},
                        "Polygon");
-  INFO(c.diagnostics);
-  REQUIRE(c.ok());
-  const std::string printed = c.model->print();
+  const std::string printed = printed_model(c);
   INFO(printed);
   // The ring's last connection closes the loop: no theta equation, its
   // potential and flow equations stay (in the ground's connection set).
@@ -493,9 +492,7 @@ model M
 end M;
 )"}},
                        "M");
-  INFO(c.diagnostics);
-  REQUIRE(c.ok());
-  const std::string printed = c.model->print();
+  const std::string printed = printed_model(c);
   INFO(printed);
   CHECK(printed.find("  Real `p.a`(unit = \"m\");\n") != std::string::npos);
   CHECK(printed.find("  `p.a` = time;\n") != std::string::npos);
@@ -523,9 +520,7 @@ model M
 end M;
 )"}},
                        "M");
-  INFO(c.diagnostics);
-  REQUIRE(c.ok());
-  const std::string printed = c.model->print();
+  const std::string printed = printed_model(c);
   INFO(printed);
   for (const char *eq : {"  `s[2].a` = `d[2].a` + `d[2].a`;\n", "  `t[1].b` = 2 * `d[1].b` + 0 * `d[1].a`;\n",
                          "  `n[2].b` = -`d[2].b`;\n", "  `z[2].a` = 0;\n", "  `z[1].b` = 0;\n",
