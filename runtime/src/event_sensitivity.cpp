@@ -20,6 +20,20 @@ int steepest(std::span<const int> crossings, const std::vector<double>& slope) {
   return best;
 }
 
+/// The directions (S⁻_j, e_{params[j]}) for the columns of `s` (the first
+/// s.rows() of nx states).
+void unit_directions(const Eigen::MatrixXd& s, std::span<const int> params, std::size_t nx,
+                     std::size_t np, std::vector<std::vector<double>>& dx,
+                     std::vector<std::vector<double>>& dp) {
+  dx.assign(params.size(), std::vector<double>(nx, 0.0));
+  dp.assign(params.size(), std::vector<double>(np, 0.0));
+  for (std::size_t j = 0; j < params.size(); ++j) {
+    for (Eigen::Index i = 0; i < s.rows(); ++i)
+      dx[j][static_cast<std::size_t>(i)] = s(i, static_cast<Eigen::Index>(j));
+    dp[j][static_cast<std::size_t>(params[j])] = 1.0;
+  }
+}
+
 /// δd per direction: the model's discrete sensitivities of params[j]; empty
 /// rows when the model has none.
 std::vector<std::vector<double>> discrete_seeds(Model& model, std::span<const int> params) {
@@ -75,14 +89,10 @@ SensitivityJump::SensitivityJump(Model& model, double t, std::span<const double>
     model.event_indicator_tangent(t, x, u, p, before, along_time, slope);
     g = steepest(crossings, slope);
   }
-  dx_.assign(ns, std::vector<double>(nx, 0.0));
-  dp_.assign(ns, std::vector<double>(np, 0.0));
+  unit_directions(s, params, nx, np, dx_, dp_);
   tau_.assign(ns, 0.0);
   du_.assign(ns, {});
   for (std::size_t j = 0; j < ns; ++j) {
-    for (Eigen::Index i = 0; i < rows_; ++i)
-      dx_[j][static_cast<std::size_t>(i)] = s(i, static_cast<Eigen::Index>(j));
-    dp_[j][static_cast<std::size_t>(params[j])] = 1.0;
     if (g >= 0) {
       model.event_indicator_tangent(t, x, u, p, before, {dx_[j], dp_[j], 0.0, dd_[j]}, dg);
       tau_[j] = -dg[static_cast<std::size_t>(g)] / slope[static_cast<std::size_t>(g)];
@@ -129,17 +139,10 @@ std::string initial_discrete_sensitivities(Model& model, double t0, std::span<co
                                            std::span<const double> u, std::span<const double> p,
                                            const Eigen::MatrixXd& s, std::span<const int> params,
                                            std::string& moved) {
-  const std::size_t nx = x.size(), np = p.size();
-  std::vector<std::vector<double>> dx(params.size(), std::vector<double>(nx, 0.0));
-  std::vector<std::vector<double>> dp(params.size(), std::vector<double>(np, 0.0));
-  std::vector<std::vector<double>> dd = discrete_seeds(model, params);
+  std::vector<std::vector<double>> dx, dp, dd = discrete_seeds(model, params);
+  unit_directions(s, params, x.size(), p.size(), dx, dp);
   std::vector<EventTangent> directions;
-  for (std::size_t j = 0; j < params.size(); ++j) {
-    for (Eigen::Index i = 0; i < s.rows(); ++i)
-      dx[j][static_cast<std::size_t>(i)] = s(i, static_cast<Eigen::Index>(j));
-    dp[j][static_cast<std::size_t>(params[j])] = 1.0;
-    directions.push_back({dx[j], dp[j], 0.0, dd[j]});
-  }
+  for (std::size_t j = 0; j < params.size(); ++j) directions.push_back({dx[j], dp[j], 0.0, dd[j]});
   std::string unsupported;
   model.initial_event_tangent(t0, x, u, p, directions, unsupported);
   write_discrete(model, params, dd);
