@@ -43,7 +43,7 @@ const std::array<mo::runtime::Sparsity, 2>& hessian_sparsities() {
 class GeneratedModel final : public mo::runtime::Model {
 public:
   GeneratedModel() : w_(num_slots, 0.0), cross_(ng, 0), reversed_(ng, 0), relations_(ng, 0),
-                     before_(nwhen, 0.0), now_(nwhen, 0.0), fired_(nwhen, 0), init_fired_(nwhen, 0),
+                     before_(nwhen, 0.0), now_(nwhen, 0.0), fired_(nwhen, 0), init_fired_(nwhen, 0), fired_count_(nwhen, 0),
                      sample_start_(nsample, 0.0), sample_interval_(nsample, 1.0),
                      tick_done_(nsample), tick_raised_(nsample) {
     reset();
@@ -287,6 +287,7 @@ public:
           init_fired_[k] = 1;
         }
         fired_[k] = 1;
+        ++fired_count_[k];
         const bool changed = fire(k);
         if (when_terminate[k]) {  // terminate(): the run ends after this event
           response.terminate = true;
@@ -406,6 +407,11 @@ public:
   }
 
   std::span<double> discrete() override { return {w_.data() + d_slot, nd}; }
+  std::vector<int> take_fired_counts() override {
+    std::vector<int> out(fired_count_.begin(), fired_count_.end());
+    std::fill(fired_count_.begin(), fired_count_.end(), 0);
+    return out;
+  }
   std::string last_failure() const override { return ws_.failure; }
   std::vector<std::string> notes() const override { return mo::runtime::generated::singular_notes(ws_); }
 
@@ -422,6 +428,7 @@ private:
     event_time_ = std::numeric_limits<double>::quiet_NaN();
     std::fill(tick_done_.begin(), tick_done_.end(), std::numeric_limits<double>::quiet_NaN());
     lower_samples();
+    std::fill(fired_count_.begin(), fired_count_.end(), 0);
   }
   // Discrete equations outside when-clauses hold at initialisation too (the
   // MSL's OnOffController: y = u < reference - bandwidth/2 or pre(y) and …
@@ -590,6 +597,7 @@ private:
     for (std::size_t k = 0; k < nwhen; ++k) {
       if (!when_every_event[k] || (when_before_steps[k] != 0) != first) continue;
       fired_[k] = 1;
+      ++fired_count_[k];
       changed = fire(k) || changed;
     }
     return changed;
@@ -746,6 +754,7 @@ private:
   std::vector<double> before_, now_;
   std::vector<char> fired_;
   std::vector<char> init_fired_;  ///< clauses fired in the event at initialisation
+  std::vector<int> fired_count_;  ///< per clause: firings since take_fired_counts() or reset()
   std::vector<double> sample_start_, sample_interval_;
   std::vector<double> tick_done_;    ///< per sample: the index k of its last handled tick (NaN: none)
   std::vector<double> tick_raised_;  ///< per sample: the tick raised at this instant (NaN: none)

@@ -342,6 +342,12 @@ public:
 
   /// Current discrete variables d (for results and for save/restore).
   [[nodiscard]] virtual std::span<double> discrete() { return {}; }
+  /// Per when-clause (in the lowered model's order, every-event clauses
+  /// included): how often it fired in handle_event() calls since the last
+  /// call of this function or initial_state() (whose event at
+  /// initialisation, and tick at t0, count). Sets the counts back to 0.
+  /// Empty if the model does not count (hand-written models).
+  virtual std::vector<int> take_fired_counts() { return {}; }
 
   /// Why the last evaluation gave non-finite values, if the model knows (e.g.
   /// a singular linear block, a nonlinear block that did not converge); empty
