@@ -488,9 +488,18 @@ int run_study(flat::Model& flat, const StudyCli& cli, frontend::DiagnosticEngine
     const bool estimation = parsed.options.task == "estimation";
     const std::string task = parsed.options.task;
     const bool design = task == "design", monte = task == "monte_carlo";
+    const Relower relower = [&](const std::vector<std::string>& parameters) {
+      const auto mark = diags.mark();  // reported once already
+      std::optional<symbolic::OdeModel> again = lower_model(flat, diags);
+      diags.rollback(mark);
+      if (!again) throw std::logic_error("the study's model did not lower a second time");
+      add_measured_outputs(*again, measured_names(parsed.options, cli.study_file));
+      if (auto error = add_named_sensitivities(*again, parameters); !error.empty()) throw UsageError(error);
+      return std::move(*again);
+    };
     if (!mpi_world().root() && !monte) return 0;  // rank 0 solves it
     const int status =
-        estimation ? estimation_with_events(flat, cli, std::move(parsed.options), std::move(*problem), *ode, diags)
+        estimation ? estimation_with_events(flat, cli, parsed.options, std::move(*problem), *ode, diags, relower)
         : design   ? design_with_events(flat, cli, std::move(parsed.options), std::move(*problem), *ode, diags)
         : monte    ? monte_carlo_with_events(flat, cli, std::move(parsed.options), std::move(*problem), *ode, diags)
                    : optimal_control_with_events(flat, cli, std::move(parsed.options), std::move(*problem), *ode, diags);

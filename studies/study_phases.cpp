@@ -71,7 +71,16 @@ runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProbl
     Q.free_parameters.push_back(fp);
   }
   for (std::size_t k = 0; k < pm.switch_time.size(); ++k)
-    Q.free_parameters.push_back({pm.switch_time[k], {P.t0, P.tf}, seq.switches[k].time});
+    if (!seq.switches[k].timed) Q.free_parameters.push_back({pm.switch_time[k], {P.t0, P.tf}, seq.switches[k].time});
+  for (std::size_t h : pm.held_parameter) Q.free_parameters.push_back({h, {}, pm.ode.parameters[h].value});
+  for (std::size_t o : pm.held_output) Q.point_constraints.push_back({o, 1.0, {0.0, 0.0}});
+  for (std::size_t o : pm.held_initial_output) Q.point_constraints.push_back({o, 0.0, {0.0, 0.0}});
+  for (const auto& c : pm.continuity) {
+    Q.free_parameters.push_back({c.parameter, {}, 0.0});
+    Q.point_constraints.push_back({c.before_output, 1.0, {0.0, 0.0}});
+    const bool control = std::any_of(P.controls.begin(), P.controls.end(), [&](const runtime::FreeControl& f) { return f.input == c.input; });
+    if (control) Q.point_constraints.push_back({c.after_output, 0.0, {0.0, 0.0}});
+  }
   for (std::size_t k = 0; k + 1 < K; ++k)
     for (std::size_t i = 0; i < pm.nx; ++i)
       Q.free_parameters.push_back({pm.phase_start[k] + i, {base.states[i].min, base.states[i].max},
@@ -124,7 +133,7 @@ runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProbl
 std::vector<double> boundary_times(const PhasedModel& pm, const runtime::OptimizationResult& r, double t0, double tf) {
   std::vector<double> taus{t0};
   for (const auto& b : pm.layout.boundaries) {
-    if (!b.switch_index) {
+    if (!b.switch_index || pm.timed_switch[*b.switch_index]) {
       taus.push_back(b.time);
       continue;
     }
@@ -267,13 +276,23 @@ EventCheck check_resimulation(runtime::Model& model, const symbolic::OdeModel& o
 
 std::string describe_modes(const symbolic::OdeModel& ode, const ModeSequence& seq) {
   std::string out;
+  std::size_t ticks = 0;
+  double first_tick = 0.0, last_tick = 0.0;
   for (const auto& sw : seq.switches) {
+    if (sw.timed) {  // summarised: a sampled controller has many
+      first_tick = ticks++ == 0 ? sw.time : first_tick;
+      last_tick = sw.time;
+      continue;
+    }
     out += fmt::format("{}{} {} at t = {:.6g}", out.empty() ? "" : ", ", symbolic::to_modelica(ode.arena, ode.zero_crossings[sw.indicator]),
                        sw.direction < 0 ? "falls through 0" : "rises through 0", sw.time);
     for (const auto& [i, direction] : sw.also)
       out += fmt::format(" with {} {}", symbolic::to_modelica(ode.arena, ode.zero_crossings[i]),
                          direction < 0 ? "falling" : "rising");
   }
+  if (ticks > 0)
+    out += fmt::format("{}{} time event{} from t = {:.6g} to {:.6g}", out.empty() ? "" : ", ", ticks,
+                       ticks == 1 ? "" : "s", first_tick, last_tick);
   return out.empty() ? "no switch" : out;
 }
 
@@ -286,6 +305,10 @@ nlohmann::json sequence_json(const symbolic::OdeModel& ode, const ModeSequence& 
     for (const auto& [i, direction] : sw.also)
       also.push_back({{"indicator", symbolic::to_modelica(ode.arena, ode.zero_crossings[i])},
                       {"direction", direction < 0 ? "down" : "up"}});
+    if (sw.timed) {
+      a.push_back({{"time", sw.time}, {"time_event", true}, {"when_clauses", whens}});
+      continue;
+    }
     a.push_back({{"time", sw.time},
                  {"indicator", symbolic::to_modelica(ode.arena, ode.zero_crossings[sw.indicator])},
                  {"direction", sw.direction < 0 ? "down" : "up"},

@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -44,6 +45,9 @@ struct PhaseMode {
 /// One switch between consecutive modes.
 struct PhaseSwitch {
   double time = 0.0;                ///< the event time in the simulation
+  /// A time event (sample() ticks): its time is fixed, it has no indicator
+  /// (`indicator`, `direction` and `also` unused).
+  bool timed = false;
   std::size_t indicator = 0;        ///< the indicator that crossed
   int direction = 0;                ///< −1 downwards, +1 upwards
   /// Other indicators that crossed at the same instant, with their
@@ -59,6 +63,9 @@ struct PhaseSwitch {
 struct ModeSequence {
   std::vector<PhaseMode> modes;
   std::vector<PhaseSwitch> switches;
+  /// The when-clauses that fired at t0 (the event at initialisation, a
+  /// sample() tick at t0), not the every-event ones.
+  std::vector<std::size_t> initial_whens;
 };
 
 /// What the relations of a model are: which indicator each belongs to.
@@ -72,10 +79,20 @@ struct RelationMap {
   };
   std::vector<Entry> entries;
   std::vector<bool> in_equations;  ///< per indicator: a relation of it is in the steps/outputs
+  /// Per discrete variable: a held value, one that a when-clause sets from
+  /// the continuous part (symbolic::discrete_with_tangents: a sample-and-hold
+  /// of a state, a latched input). Each phase has it as an unknown, tied to
+  /// the value of the clause that sets it at a boundary (docs/events.md).
+  std::vector<bool> held;
 };
 
 /// The relations of `ode` matched to its zero crossings (adds differences to its arena).
 RelationMap match_relations(symbolic::OdeModel& ode);
+
+/// The leaves that `roots` read through the steps of `ode`: those of the
+/// steps that compute the algebraic variables and derivatives they read, and
+/// so on (not the roots' own leaves).
+std::vector<symbolic::Expr> leaves_through_steps(const symbolic::OdeModel& ode, const std::vector<symbolic::Expr>& roots);
 
 /// A reason the multi-phase formulation cannot take a model or a sequence,
 /// with the when-clause (index) or indicator it concerns.
@@ -86,18 +103,27 @@ struct PhaseRefusal {
 };
 
 /// Checks the model's event constructs once: every when-condition a single
-/// relation with an indicator, reinit values and discrete assignments over
-/// states, parameters, time, pre() and discrete variables only (no algebraic
-/// unknowns), discrete assignments independent of states and parameters, and
-/// no relation of the equations on an input. nullopt if all hold.
+/// relation with an indicator or one that changes at time events only (over
+/// sample(), initial(), discrete variables and parameters); reinit values
+/// over states, parameters, time, pre() and discrete variables only (no
+/// algebraic unknowns); a held value reading no other held value but pre()
+/// and its own clause's (through the equations neither), and none in a model
+/// with sensitivity states; no sample() that moves with a parameter of the
+/// sensitivities; no relation of the equations on an input. nullopt if all hold.
 std::optional<PhaseRefusal> check_event_constructs(const symbolic::OdeModel& ode, const RelationMap& rel);
 
 /// Simulates `model` from t0 to tf with `inputs` and `p`, recording every
-/// event, and returns its mode sequence, or a refusal (a time event, an
-/// event iteration that changes more, more than `max_switches` switches, two
-/// switches closer than `min_gap`). Several indicators crossing at one
-/// instant make one switch (the first of them its `indicator`, the others `also`).
+/// event, and returns its mode sequence, or a refusal (a state event whose
+/// event iteration changes more, more than `max_switches` state-event
+/// switches or kMaxTimedSwitches time events, two switches closer than
+/// `min_gap`, a held value set twice at t0 from its pre()). Several
+/// indicators crossing at one instant make one switch (the first of them its
+/// `indicator`, the others `also`); a time event that changes the model is a
+/// timed switch.
 /// `simulation_message` is set if the simulation itself failed.
+/// More time events that change the model in one simulation are refused:
+/// each is a phase of the stacked model.
+constexpr std::size_t kMaxTimedSwitches = 200;
 struct ModeRecording {
   std::optional<ModeSequence> sequence;
   std::optional<PhaseRefusal> refusal;
@@ -108,11 +134,13 @@ ModeRecording record_modes(const runtime::Model& model, const symbolic::OdeModel
                            std::size_t max_switches, double min_gap);
 
 /// True if the two sequences have the same switches (indicator, direction,
-/// clauses) and modes (signs of the indicators of the equations, discrete values).
+/// clauses; a timed switch its time) and modes (signs of the indicators of
+/// the equations, discrete values but the held ones).
 bool same_modes(const ModeSequence& a, const ModeSequence& b, const RelationMap& rel);
 
 /// A boundary between consecutive phases: a switch of the sequence (free
-/// time, indicator = 0, jump) or a fixed cut (a measurement time; continuity).
+/// time, indicator = 0, jump; a timed switch at its fixed time, jump) or a
+/// fixed cut (a measurement time; continuity).
 struct PhaseBoundary {
   double time = 0.0;                        ///< the (guessed) time
   std::optional<std::size_t> switch_index;  ///< the switch, or nullopt for a fixed cut
@@ -128,17 +156,34 @@ struct PhaseLayout {
 /// One phase per mode, boundaries at the switches.
 PhaseLayout phase_layout(const ModeSequence& seq);
 
+
 /// The stacked model of a mode sequence and where its parts are.
 struct PhasedModel {
   symbolic::OdeModel ode;
   std::size_t phases = 1;
   PhaseLayout layout;                          ///< what it was built from
   std::size_t nx = 0, nu = 0, np = 0, ny = 0;  ///< sizes of the base model
-  std::vector<std::size_t> switch_time;        ///< parameter index of τ_k, k = 1..K−1
+  std::vector<std::size_t> switch_time;        ///< parameter index of τ_k, per switch (fixed if timed)
+  std::vector<bool> timed_switch;              ///< per switch: a time event (PhaseSwitch::timed)
   std::vector<std::size_t> phase_start;        ///< first parameter index of q^{k+1}, per boundary
   std::vector<std::size_t> indicator_output;   ///< output index of g, per switch
   std::vector<std::size_t> jump_output;        ///< first of nx output indices, per boundary
   std::vector<std::size_t> length_output;      ///< output index of τ_k − τ_{k−1}, per phase
+  /// The held values' unknowns (parameters; RelationMap::held): one per held
+  /// variable that a clause sets at t0 or at a boundary, with its guess.
+  std::vector<std::size_t> held_parameter;
+  /// Outputs zero at s = 1 of the phase before a boundary: the value a fired
+  /// clause assigns minus the next phase's unknown; `held_initial_output`
+  /// likewise at s = 0 of the first phase for the clauses fired at t0.
+  std::vector<std::size_t> held_output;
+  std::vector<std::size_t> held_initial_output;
+  /// A control read by a held value at a timed switch is continuous there:
+  /// parameter ψ, outputs u^k − ψ (zero at s = 1 of phase k) and u^{k+1} − ψ
+  /// (zero at s = 0 of phase k + 1).
+  struct Continuity {
+    std::size_t input, parameter, before_output, after_output;
+  };
+  std::vector<Continuity> continuity;
   std::optional<std::size_t> lagrange_output;  ///< Σ_k (τ_k − τ_{k−1})·L^k
   /// With sensitivity states: per switch, the first of nb parameters φ = f⁺
   /// (the base states' derivatives just after it) and the first of nb outputs
@@ -158,6 +203,10 @@ struct PhasedModel {
   [[nodiscard]] std::size_t output(std::size_t k, std::size_t o) const { return k * ny + o; }
 };
 
+/// The time a phase of `pm` that ends at `b` ends at if that is fixed (a
+/// cut or a timed switch), else NaN.
+double fixed_end_time(const PhasedModel& pm, const PhaseBoundary& b);
+
 /// Stacks the phases of `layout` (modes from `seq`) for `base` on [t0, tf];
 /// `lagrange` is the base output index of the objective integrand, if any.
 PhasedModel build_phased_model(symbolic::OdeModel& base, const RelationMap& rel, const ModeSequence& seq,
@@ -175,14 +224,21 @@ int optimal_control_with_events(frontend::flat::Model& flat, const StudyCli& cli
                                 ProblemOutputs problem, symbolic::OdeModel& ode,
                                 frontend::DiagnosticEngine& diags);
 
+/// The study's model lowered again (measured outputs as `ode` has them) with
+/// sensitivity states for the named parameters.
+using Relower = std::function<symbolic::OdeModel(const std::vector<std::string>& parameters)>;
+
 /// Task estimation on a model with events: one experiment without inputs,
 /// phases cut at every sample time (docs/events.md); statistics from CVODES
-/// sensitivities through the events. Returns the exit status.
+/// sensitivities through the events, or with held values from the model
+/// `relower` gives. Returns the exit status.
 int estimation_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt,
-                           ProblemOutputs problem, symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags);
+                           ProblemOutputs problem, symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags,
+                           const Relower& relower);
 
 /// A multi-phase estimation (without writing anything): the estimate with
-/// its statistics (CVODES sensitivities through the events), `status` and
+/// its statistics (CVODES sensitivities through the events, or those of
+/// `with_states`, compiled with sensitivity states for e's parameters), `status` and
 /// `events` as summary.json has them, or a refusal or an error.
 struct PhasedEstimate {
   runtime::EstimationResult result;  ///< status not success/acceptable if the events check failed
@@ -195,7 +251,8 @@ struct PhasedEstimate {
 /// Estimates e's free parameters from its one experiment (no inputs) on the
 /// model `model` compiled from `ode`, by the multi-phase collocation.
 PhasedEstimate phased_estimate(const runtime::Model& model, symbolic::OdeModel& ode, const RelationMap& rel,
-                               const runtime::EstimationProblem& e, const StudyCli& cli);
+                               const runtime::EstimationProblem& e, const StudyCli& cli,
+                               const runtime::Model* with_states = nullptr);
 
 /// Task monte_carlo on a model with events: each run's estimate by
 /// phased_estimate (cases without inputs). Returns the exit status.

@@ -50,12 +50,12 @@ runtime::MeasurementDesign add_samples(PhasedModel& pm, const symbolic::OdeModel
                                        const runtime::MeasurementDesign& m, const std::vector<std::size_t>& J,
                                        double t0) {
   std::vector<double> ends;  // the end time of each phase that ends at a fixed cut
-  for (const auto& b : pm.layout.boundaries) ends.push_back(b.switch_index ? -1.0 : b.time);
+  for (const auto& b : pm.layout.boundaries) ends.push_back(fixed_end_time(pm, b));
   ends.push_back(m.times.empty() ? t0 : std::max(m.times.back(), ends.empty() ? t0 : ends.back()));
   runtime::MeasurementDesign out;
   out.times = {1.0};
   for (std::size_t k = 0; k < m.times.size(); ++k) {
-    const auto phase = std::find(ends.begin(), ends.end(), m.times[k]);
+    const auto phase = phase_ending_at(ends, m.times[k]);
     if (m.times[k] <= t0 || phase == ends.end())
       throw UsageError(fmt::format("design on a model with events: no phase ends at the measurement time {} "
                                    "(measurement times must lie in (startTime, finalTime])", m.times[k]));
@@ -173,7 +173,7 @@ EventDesignRun solve_event_design(const Study& s, symbolic::OdeModel& ode, const
                              check.modes ? describe_modes(ode, *check.modes) : check.failure, check.max_relative);
     if (!R.message.empty()) std::cerr << "morun: " << R.message << "\n";
     if (out.status == "success" || out.status == "acceptable") {
-      moved = stuck_switches(switches, e.m.times, P.t0, P.tf, 10 * e.min_gap);
+      moved = stuck_switches(switches, pm.timed_switch, e.m.times, P.t0, P.tf, 10 * e.min_gap);
       if (!moved.empty()) out.status = "switch_at_sample_time";
     }
     if ((out.status != "mode_sequence_changed" && out.status != "switch_at_sample_time") || attempt == kMaxAttempts)

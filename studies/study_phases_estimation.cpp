@@ -35,10 +35,16 @@ std::optional<PhaseLayout> sample_layout(const runtime::Model& model, const Mode
     if (t > t0 && t < tf && (cuts.empty() || t > cuts.back())) cuts.push_back(t);
   for (const auto& sw : seq.switches)
     for (double c : cuts)
-      if (std::abs(sw.time - c) < min_gap) {
+      if (!sw.timed && std::abs(sw.time - c) < min_gap) {
         why = fmt::format("the guess switches at t = {:.9g}, on a sample time", sw.time);
         return std::nullopt;
       }
+  // A sample on a time event is taken at the end of the phase before it
+  // (the value the event's clauses read): the switch is its cut.
+  std::erase_if(cuts, [&](double c) {
+    return std::any_of(seq.switches.begin(), seq.switches.end(),
+                       [&](const PhaseSwitch& sw) { return sw.timed && std::abs(sw.time - c) < min_gap; });
+  });
   std::vector<double> grid{t0};
   grid.insert(grid.end(), cuts.begin(), cuts.end());
   grid.push_back(tf);
@@ -81,15 +87,15 @@ std::vector<std::size_t> interleaving(const ModeSequence& seq, const std::vector
   return out;
 }
 
-std::map<std::size_t, double> stuck_switches(const std::vector<double>& switches, const std::vector<double>& samples,
-                                             double t0, double tf, double near) {
+std::map<std::size_t, double> stuck_switches(const std::vector<double>& switches, const std::vector<bool>& timed,
+                                             const std::vector<double>& samples, double t0, double tf, double near) {
   std::vector<double> grid{t0};
   for (double t : samples)
     if (t > grid.back() && t < tf) grid.push_back(t);
   grid.push_back(tf);
   std::map<std::size_t, double> out;
   for (std::size_t k = 0; k < switches.size(); ++k)
-    for (std::size_t c = 1; c + 1 < grid.size(); ++c) {
+    for (std::size_t c = 1; c + 1 < grid.size() && !(k < timed.size() && timed[k]); ++c) {
       if (std::abs(switches[k] - grid[c]) > near) continue;
       out[k] = switches[k] > grid[c] ? 0.5 * (grid[c - 1] + grid[c]) : 0.5 * (grid[c] + grid[c + 1]);
     }
@@ -109,7 +115,7 @@ std::optional<std::size_t> add_chi_square(PhasedModel& pm, const symbolic::OdeMo
                                           std::string& why) {
   auto& a = pm.ode.arena;
   std::vector<double> ends;  // the end time of each phase
-  for (const auto& b : pm.layout.boundaries) ends.push_back(b.switch_index ? -1.0 : b.time);
+  for (const auto& b : pm.layout.boundaries) ends.push_back(fixed_end_time(pm, b));
   ends.push_back(data.times.back());
   symbolic::Expr sum = a.constant(0.0);
   for (std::size_t k = 0; k < data.times.size(); ++k)
@@ -128,7 +134,7 @@ std::optional<std::size_t> add_chi_square(PhasedModel& pm, const symbolic::OdeMo
         }
         y = pm.ode.states[pm.state(0, *state)].start;
       } else {
-        const auto phase = std::find(ends.begin(), ends.end(), data.times[k]);
+        const auto phase = phase_ending_at(ends, data.times[k]);
         if (phase == ends.end()) {
           why = fmt::format("no phase ends at the sample time {}", data.times[k]);
           return std::nullopt;
@@ -151,9 +157,13 @@ std::optional<std::size_t> add_chi_square(PhasedModel& pm, const symbolic::OdeMo
   return pm.ode.outputs.size() - 1;
 }
 
-/// Fisher information, covariance and intervals at the estimate from CVODES
-/// sensitivities of the base model through its events (docs/events.md).
-void statistics(runtime::Model& model, const runtime::EstimationProblem& e, double t0, runtime::EstimationResult& r) {
+/// Fisher information, covariance and intervals at the estimate from the
+/// sensitivities of the base model through its events (docs/events.md):
+/// CVODES', or those of `with_states`, the model compiled with sensitivity
+/// states for the free parameters, if given (held values, which CVODES does
+/// not carry).
+void statistics(const runtime::Model& model, const runtime::Model* with_states, const runtime::EstimationProblem& e,
+                double t0, runtime::EstimationResult& r) {
   const auto& data = e.experiments.front().data;
   std::vector<std::size_t> J;
   for (const auto& fp : e.parameters) J.push_back(fp.parameter);
@@ -165,7 +175,8 @@ void statistics(runtime::Model& model, const runtime::EstimationProblem& e, doub
   std::vector<double> grid{t0};
   for (double t : data.times)
     if (t > grid.back()) grid.push_back(t);
-  auto sim_model = model.clone();
+  if (with_states) so.sensitivities.method = runtime::SensitivityMethod::model_states;
+  auto sim_model = (with_states ? *with_states : model).clone();
   const auto sim = runtime::simulate(*sim_model, runtime::Inputs(), r.parameters, runtime::OutputGrid::at(grid), so);
   const auto n = static_cast<Eigen::Index>(J.size());
   r.fisher = Eigen::MatrixXd::Zero(n, n);
@@ -205,7 +216,8 @@ void statistics(runtime::Model& model, const runtime::EstimationProblem& e, doub
 }  // namespace
 
 PhasedEstimate phased_estimate(const runtime::Model& model, symbolic::OdeModel& ode, const RelationMap& rel,
-                               const runtime::EstimationProblem& e, const StudyCli& cli) {
+                               const runtime::EstimationProblem& e, const StudyCli& cli,
+                               const runtime::Model* with_states) {
   PhasedEstimate out;
   const runtime::ModelInfo& info = model.info();
   const auto& data = e.experiments.front().data;
@@ -287,7 +299,7 @@ PhasedEstimate phased_estimate(const runtime::Model& model, symbolic::OdeModel& 
     }
     if (R.parameters.size() != guess.size()) R.parameters = guess;  // nothing solved: report the guess
     if (out.status == "success" || out.status == "acceptable") {
-      moved = stuck_switches(switches, data.times, t0, tf, 10 * min_gap);
+      moved = stuck_switches(switches, pm.timed_switch, data.times, t0, tf, 10 * min_gap);
       if (!moved.empty()) {
         out.status = "switch_at_sample_time";
         if (!cli.quiet)
@@ -311,7 +323,7 @@ PhasedEstimate phased_estimate(const runtime::Model& model, symbolic::OdeModel& 
   er.iterations = R.iterations;
   for (Eigen::Index k = 0; k < data.values.size(); ++k)
     if (!std::isnan(data.values.data()[k])) ++er.measurements;
-  statistics(const_cast<runtime::Model&>(model), e, t0, er);
+  statistics(model, with_states, e, t0, er);
   if (out.status != "success" && out.status != "acceptable" && er.status == runtime::OptimizationStatus::success)
     er.status = runtime::OptimizationStatus::invalid_problem;  // the events check failed: not an estimate to use
   er.experiments.push_back(R);
@@ -319,7 +331,7 @@ PhasedEstimate phased_estimate(const runtime::Model& model, symbolic::OdeModel& 
 }
 
 int estimation_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOptions opt, ProblemOutputs problem,
-                           symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags) {
+                           symbolic::OdeModel& ode, frontend::DiagnosticEngine& diags, const Relower& relower) {
   const RelationMap rel = match_relations(ode);
   if (auto r = check_event_constructs(ode, rel)) return refuse_phases(flat, *r, diags);
   Study s{flat, cli, std::move(opt), std::move(problem), build_model(ode, cli.jobs, "morun", cli.run, cli.quiet)};
@@ -338,7 +350,16 @@ int estimation_with_events(frontend::flat::Model& flat, const StudyCli& cli, Stu
   e.collocation = collocation_options(s.opt);
   e.solver = solver_options(s);
   e.confidence = s.opt.confidence;
-  PhasedEstimate pe = phased_estimate(*s.built.model, ode, rel, e, cli);
+  // CVODES does not carry sensitivities through held values: the statistics
+  // then come from the model compiled with sensitivity states.
+  BuiltModel with_states;
+  if (std::find(rel.held.begin(), rel.held.end(), true) != rel.held.end()) {
+    std::vector<std::string> names;
+    for (const auto& fp : e.parameters) names.push_back(info.parameters[fp.parameter].name);
+    symbolic::OdeModel sens = relower(names);
+    with_states = build_model(sens, cli.jobs, "morun", cli.run, cli.quiet);
+  }
+  PhasedEstimate pe = phased_estimate(*s.built.model, ode, rel, e, cli, with_states.model.get());
   if (pe.refusal) return refuse_phases(flat, *pe.refusal, diags);
   if (!pe.error.empty()) {
     std::cerr << "morun: error: " << pe.error << "\n";

@@ -3,6 +3,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <functional>
 #include <map>
 #include <memory>
@@ -50,9 +52,18 @@ std::optional<PhaseLayout> sample_layout(const runtime::Model& model, const Mode
 std::vector<std::size_t> interleaving(const ModeSequence& seq, const std::vector<double>& samples, double t0);
 
 /// Switches that ended within `near` of a sample time (their phase's length
-/// bound active), with a new guess in the middle of the sample interval across it.
-std::map<std::size_t, double> stuck_switches(const std::vector<double>& switches, const std::vector<double>& samples,
-                                             double t0, double tf, double near);
+/// bound active), with a new guess in the middle of the sample interval
+/// across it; not the timed ones (on a sample time by design).
+std::map<std::size_t, double> stuck_switches(const std::vector<double>& switches, const std::vector<bool>& timed,
+                                             const std::vector<double>& samples, double t0, double tf, double near);
+
+/// The phase of `ends` (fixed_end_time() per boundary) that ends at `t`,
+/// within rounding (a tick start + k·interval against a sample time of a
+/// file), or ends.end().
+inline std::vector<double>::const_iterator phase_ending_at(const std::vector<double>& ends, double t) {
+  return std::find_if(ends.begin(), ends.end(),
+                      [&](double e) { return std::abs(e - t) <= 1e-12 * std::max(1.0, std::abs(t)); });
+}
 
 /// The multi-phase problem on s ∈ [0, 1] for the stacked model `pm` built from
 /// `P` (the base problem on physical time): controls and fixed inputs per

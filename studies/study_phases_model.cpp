@@ -1,6 +1,7 @@
 // The stacked multi-phase model and the checks of a model's event
 // constructs; see study_phases.hpp.
 #include <algorithm>
+#include <cmath>
 #include <map>
 #include <stdexcept>
 #include <unordered_map>
@@ -102,10 +103,112 @@ RelationMap match_relations(OdeModel& m) {
       break;
     }
   }
+  out.held = symbolic::discrete_with_tangents(m);
   return out;
 }
 
+std::vector<Expr> leaves_through_steps(const OdeModel& m, const std::vector<Expr>& roots) {
+  std::unordered_map<Expr, std::vector<Expr>, symbolic::ExprHash> defines;  // target → what computes it
+  for (const auto& s : m.steps) {
+    if (const auto* as = std::get_if<symbolic::Assignment>(&s)) {
+      defines[as->target] = {as->value};
+      continue;
+    }
+    const auto& b = std::get<symbolic::EquationBlock>(s);
+    for (Expr u : b.unknowns) defines[u] = b.residuals;
+  }
+  std::unordered_map<Expr, bool, symbolic::ExprHash> seen;
+  std::vector<Expr> out, todo = symbolic::leaves(m.arena, roots);
+  for (Expr e : todo) seen[e] = true;
+  for (std::size_t i = 0; i < todo.size(); ++i) {
+    const auto d = defines.find(todo[i]);
+    if (d == defines.end()) continue;
+    for (Expr leaf : symbolic::leaves(m.arena, d->second)) {
+      if (seen[leaf]) continue;
+      seen[leaf] = true;
+      todo.push_back(leaf);
+      out.push_back(leaf);
+    }
+  }
+  return out;
+}
+
+namespace {
+
+/// The symbol a leaf stands for (the operand of pre()), or an invalid Expr for a delay.
+Expr leaf_symbol(const ExprArena& a, Expr leaf) {
+  if (a.kind(leaf) == ExprKind::Symbol) return leaf;
+  if (a.kind(leaf) == ExprKind::Pre || a.kind(leaf) == ExprKind::Der) return a.operand(leaf, 0);
+  return {};
+}
+
+/// True if `condition` changes at time events only: it reads, directly and
+/// through the equations, no state, input or time, nor a delay.
+bool timed_condition(const OdeModel& m, Expr condition) {
+  std::vector<Expr> all = symbolic::leaves(m.arena, {&condition, 1});
+  for (Expr e : leaves_through_steps(m, {condition})) all.push_back(e);
+  for (Expr leaf : all) {
+    const Expr s = leaf_symbol(m.arena, leaf);
+    if (!s.valid()) return false;
+    const SymbolRole r = m.arena.symbol_info(s).role;
+    if (r == SymbolRole::State || r == SymbolRole::Input || r == SymbolRole::Time) return false;
+  }
+  return true;
+}
+
+std::optional<std::size_t> discrete_index(const OdeModel& m, Expr symbol) {
+  for (std::size_t j = 0; j < m.discrete.size(); ++j)
+    if (m.discrete[j].symbol == symbol) return j;
+  return std::nullopt;
+}
+
+/// A held value's reads the phases cannot order: another held value (not
+/// pre()) but its own clause's targets, or any through the equations.
+std::optional<std::string> bad_held_read(const OdeModel& m, const RelationMap& rel, const symbolic::WhenClause& clause,
+                                         Expr value) {
+  const auto held_symbol = [&](Expr leaf) {
+    if (m.arena.kind(leaf) != ExprKind::Symbol) return false;
+    const auto j = discrete_index(m, leaf);
+    return j && rel.held[*j];
+  };
+  for (Expr leaf : symbolic::leaves(m.arena, {&value, 1})) {
+    if (!held_symbol(leaf)) continue;
+    const bool own = std::any_of(clause.assignments.begin(), clause.assignments.end(),
+                                 [&](const symbolic::Assignment& a) { return a.target == leaf; });
+    if (!own) return m.arena.symbol_info(leaf).name + ", which another clause sets";
+  }
+  for (Expr leaf : leaves_through_steps(m, {value}))
+    if (held_symbol(leaf)) return m.arena.symbol_info(leaf).name + " through the equations";
+  return std::nullopt;
+}
+
+/// With sensitivity states: a sample() that moves with a parameter of the sensitivities.
+std::optional<PhaseRefusal> check_sample_tangents(const OdeModel& m) {
+  std::vector<bool> sensitive(m.parameters.size(), false);
+  for (const auto& s : m.states)
+    if (s.sensitivity) sensitive[s.sensitivity->parameter] = true;
+  for (const auto& smp : m.samples) {
+    const Expr roots[] = {smp.start, smp.interval};
+    for (Expr leaf : symbolic::leaves(m.arena, roots)) {
+      if (m.arena.kind(leaf) != ExprKind::Symbol) continue;
+      const auto& info = m.arena.symbol_info(leaf);
+      if (info.role == SymbolRole::Parameter && info.index >= 0 && sensitive[static_cast<std::size_t>(info.index)])
+        return PhaseRefusal{"sample(" + symbolic::to_modelica(m.arena, smp.start) + ", " +
+                                symbolic::to_modelica(m.arena, smp.interval) + ") moves with " + info.name +
+                                ", a parameter of the sensitivities; the multi-phase collocation takes ticks at "
+                                "fixed times",
+                            std::nullopt, std::nullopt};
+    }
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 std::optional<PhaseRefusal> check_event_constructs(const OdeModel& m, const RelationMap& rel) {
+  const bool sensitivities = m.num_base_states() < m.states.size();
+  if (sensitivities)
+    if (auto r = check_sample_tangents(m)) return r;
   for (std::size_t i = 0; i < m.zero_crossings.size(); ++i)
     if (rel.in_equations[i] && uses_role(m.arena, m.zero_crossings[i], {SymbolRole::Input}))
       return PhaseRefusal{"the relation " + symbolic::to_modelica(m.arena, m.zero_crossings[i]) +
@@ -117,9 +220,10 @@ std::optional<PhaseRefusal> check_event_constructs(const OdeModel& m, const Rela
     const std::string text = "when " + symbolic::to_modelica(m.arena, clause.condition);
     bool single = false;
     for (const auto& e : rel.entries) single = single || e.relation == clause.condition;
-    if (!single)
+    if (!single && (clause.every_event || !timed_condition(m, clause.condition)))
       return PhaseRefusal{text + ": the multi-phase collocation takes when-conditions that are one "
-                                 "relation with an event indicator (not and/or, sample, initial())",
+                                 "relation with an event indicator, or that change at time events only "
+                                 "(sample(), initial(), discrete variables), not and/or of relations",
                           w, std::nullopt};
     for (const auto& r : clause.reinits)
       if (uses_role(m.arena, r.value, {SymbolRole::Algebraic, SymbolRole::Derivative, SymbolRole::Input}))
@@ -129,15 +233,23 @@ std::optional<PhaseRefusal> check_event_constructs(const OdeModel& m, const Rela
                                 "collocation takes reinit values over states, parameters, time, "
                                 "pre() and discrete variables",
                             w, std::nullopt};
-    for (const auto& a : clause.assignments)
-      if (uses_role(m.arena, a.value, {SymbolRole::Algebraic, SymbolRole::Derivative, SymbolRole::Input,
-                                       SymbolRole::State, SymbolRole::Parameter, SymbolRole::Time}))
-        return PhaseRefusal{text + ": " + symbolic::to_modelica(m.arena, a.target) + " := " +
-                                symbolic::to_modelica(m.arena, a.value) +
-                                " takes a value that depends on the continuous part; the multi-phase "
-                                "collocation takes discrete modes (values from constants, pre() and "
-                                "other discrete variables)",
+    // A value that is not held is a mode (frozen per phase, its changes
+    // found by the re-simulation); a held one is an unknown of each phase.
+    for (const auto& a : clause.assignments) {
+      const auto j = discrete_index(m, a.target);
+      if (!j || !rel.held[*j]) continue;
+      const std::string assigned = text + ": " + symbolic::to_modelica(m.arena, a.target) + " := " +
+                                   symbolic::to_modelica(m.arena, a.value);
+      if (sensitivities)
+        return PhaseRefusal{assigned + " holds a value of the continuous part; the multi-phase collocation "
+                                       "does not carry sensitivity states through held values (design, "
+                                       "monte_carlo)",
                             w, std::nullopt};
+      if (auto why = bad_held_read(m, rel, clause, a.value))
+        return PhaseRefusal{assigned + " reads " + *why + "; the multi-phase collocation takes held values "
+                                       "that read other held values only through pre()",
+                            w, std::nullopt};
+    }
   }
   return std::nullopt;
 }
@@ -163,10 +275,14 @@ public:
     add_parameters();
     taus_.push_back(m_.arena.constant(t0));
     for (const auto& b : lay_.boundaries)
-      taus_.push_back(b.switch_index ? m_.parameters[out_.switch_time[*b.switch_index]].symbol : m_.arena.constant(b.time));
+      taus_.push_back(b.switch_index && !seq_.switches[*b.switch_index].timed
+                          ? m_.parameters[out_.switch_time[*b.switch_index]].symbol
+                          : m_.arena.constant(b.time));
     taus_.push_back(m_.arena.constant(tf));
     add_variables();
+    add_held();
     for (std::size_t k = 0; k < K_; ++k) add_phase(k);
+    add_initial_held();
     for (std::size_t k = 0; k + 1 < K_; ++k) add_boundary(k);
     for (std::size_t k = 0; k < K_; ++k) add_sign_outputs(k);
     if (K_ > 1)
@@ -195,6 +311,7 @@ private:
       symbolic::VariableInfo info;
       info.name = "$switch" + std::to_string(k + 1) + ".time";
       out_.switch_time.push_back(add_parameter(info, seq_.switches[k].time));
+      out_.timed_switch.push_back(seq_.switches[k].timed);
     }
     if (tangents_)
       for (std::size_t k = 0; k < seq_.switches.size(); ++k) {
@@ -259,8 +376,69 @@ private:
     return m_.outputs.size() - 1;
   }
 
-  /// Leaves of phase k: states, inputs, parameters, time, discrete values of `mode`.
-  void map_leaves(Copier& c, std::size_t k, const PhaseMode& mode, const PhaseMode& before) {
+  /// The clauses that fire where phase k starts: at t0, or at the switch before it.
+  std::vector<std::size_t> whens_at_start(std::size_t k) const {
+    if (k == 0) return seq_.initial_whens;
+    const auto& sw = lay_.boundaries[k - 1].switch_index;
+    return sw ? seq_.switches[*sw].whens : std::vector<std::size_t>{};
+  }
+
+  /// Per phase the held values: a new unknown where a clause sets one, the
+  /// previous phase's otherwise (the simulation's value in the first phase).
+  void add_held() {
+    held_.assign(K_, std::vector<Expr>(b_.discrete.size()));
+    for (std::size_t k = 0; k < K_; ++k) {
+      const PhaseMode& mode = seq_.modes[lay_.mode[k]];
+      std::vector<bool> set(b_.discrete.size(), false);
+      for (std::size_t w : whens_at_start(k))
+        for (const auto& a : b_.whens[w].assignments)
+          for (std::size_t j = 0; j < b_.discrete.size(); ++j) set[j] = set[j] || b_.discrete[j].symbol == a.target;
+      for (std::size_t j = 0; j < b_.discrete.size(); ++j) {
+        if (!rel_.held[j]) continue;
+        const double value = j < mode.discrete.size() ? mode.discrete[j] : b_.discrete[j].start;
+        if (!set[j]) {
+          held_[k][j] = k == 0 ? m_.arena.constant(value) : held_[k - 1][j];
+          continue;
+        }
+        symbolic::VariableInfo info = b_.discrete[j].info;
+        info.name = phase_name(k, b_.discrete[j].info.name);
+        out_.held_parameter.push_back(add_parameter(info, value));
+        held_[k][j] = m_.parameters[out_.held_parameter.back()].symbol;
+      }
+    }
+  }
+
+  /// The held values the clauses fired at t0 set, at s = 0 of the first
+  /// phase: pre() is the start value (check_initial_whens refuses what
+  /// would need more).
+  void add_initial_held() {
+    for (std::size_t w : seq_.initial_whens)
+      for (const auto& a : b_.whens[w].assignments) {
+        const auto j = held_index(a.target);
+        if (!j) continue;
+        const PhaseMode& mode = seq_.modes[lay_.mode[0]];
+        Copier c(b_.arena, m_.arena);
+        map_leaves(c, 0, mode, mode);
+        map_algebraics(c, 0);
+        for (std::size_t i = 0; i < b_.discrete.size(); ++i)
+          if (rel_.held[i]) c.set(b_.arena.pre(b_.discrete[i].symbol), m_.arena.constant(b_.discrete[i].start));
+        const Expr value = c.copy(a.value);
+        out_.held_initial_output.push_back(
+            add_output("$initial.held." + b_.discrete[*j].info.name, m_.arena.sub(value, held_[0][*j])));
+      }
+  }
+
+  std::optional<std::size_t> held_index(Expr target) const {
+    for (std::size_t j = 0; j < b_.discrete.size(); ++j)
+      if (rel_.held[j] && b_.discrete[j].symbol == target) return j;
+    return std::nullopt;
+  }
+
+  /// Leaves of phase k: states, inputs, parameters, time, discrete values of
+  /// `mode` (pre() those of `before`); held values of phase `held_now`
+  /// (pre() of `held_before`), both k by default.
+  void map_leaves(Copier& c, std::size_t k, const PhaseMode& mode, const PhaseMode& before,
+                  std::optional<std::size_t> held_now = {}, std::optional<std::size_t> held_before = {}) {
     for (std::size_t i = 0; i < b_.states.size(); ++i) {
       c.set(b_.states[i].symbol, m_.states[out_.state(k, i)].symbol);
       c.set(b_.arena.pre(b_.states[i].symbol), m_.states[out_.state(k, i)].symbol);
@@ -269,6 +447,11 @@ private:
     for (std::size_t j = 0; j < b_.parameters.size(); ++j) c.set(b_.parameters[j].symbol, m_.parameters[j].symbol);
     c.set(b_.time, m_.arena.add(taus_[k], m_.arena.mul(m_.time, length(k))));
     for (std::size_t j = 0; j < b_.discrete.size(); ++j) {
+      if (rel_.held[j]) {
+        c.set(b_.discrete[j].symbol, held_[held_now.value_or(k)][j]);
+        c.set(b_.arena.pre(b_.discrete[j].symbol), held_[held_before.value_or(k)][j]);
+        continue;
+      }
       const double now = j < mode.discrete.size() ? mode.discrete[j] : b_.discrete[j].start;
       const double pre = j < before.discrete.size() ? before.discrete[j] : now;
       c.set(b_.discrete[j].symbol, m_.arena.constant(now));
@@ -344,16 +527,15 @@ private:
     for (std::size_t i = 0; i < b_.states.size(); ++i) after.push_back(m_.states[out_.state(k, i)].symbol);
     if (bd.switch_index) {
       const PhaseSwitch& sw = seq_.switches[*bd.switch_index];
-      {
+      if (!sw.timed) {
         Copier c(b_.arena, m_.arena);
         map_leaves(c, k, before, before);
-        for (std::size_t i = 0; i < b_.states.size(); ++i)
-          c.set(b_.states[i].derivative, find_algebraic(k, "der(" + b_.states[i].info.name + ")"));
-        for (const auto& a : b_.algebraics) c.set(a.symbol, find_algebraic(k, a.info.name));
+        map_algebraics(c, k);
         out_.indicator_output.push_back(add_output(prefix + ".indicator", c.copy(b_.zero_crossings[sw.indicator])));
       }
+      add_held_values(k, sw);
       Copier c(b_.arena, m_.arena);  // the jump: d new, pre(d) old, pre(x) = x^k(1)
-      map_leaves(c, k, after_mode, before);
+      map_leaves(c, k, after_mode, before, k + 1, k);
       for (std::size_t w : sw.whens)
         for (const auto& r : b_.whens[w].reinits) after[r.state] = c.copy(r.value);
       if (tangents_) add_sensitivity_jump(k, *bd.switch_index, after);
@@ -362,6 +544,38 @@ private:
     for (std::size_t i = 0; i < b_.states.size(); ++i)
       add_output(prefix + ".jump." + b_.states[i].info.name,
                  m_.arena.sub(after[i], m_.parameters[out_.phase_start[k] + i].symbol));
+  }
+
+  /// The held values the clauses fired at switch `sw` (the end of phase k)
+  /// set: the value at s = 1 of phase k (states, algebraic variables and
+  /// pre() from before the event; the clause's own targets new) minus the
+  /// next phase's unknown. A control it reads is made continuous there.
+  void add_held_values(std::size_t k, const PhaseSwitch& sw) {
+    const PhaseMode& before = seq_.modes[lay_.mode[k]];
+    const PhaseMode& after = seq_.modes[lay_.mode[k + 1]];
+    std::vector<Expr> values;
+    for (std::size_t w : sw.whens)
+      for (const auto& a : b_.whens[w].assignments) {
+        const auto j = held_index(a.target);
+        if (!j) continue;
+        const Expr v = phase_copy(k, after, before, {a.value}, nullptr, k + 1).front();
+        const std::string name = "$boundary" + std::to_string(k + 1) + ".held." + b_.discrete[*j].info.name;
+        out_.held_output.push_back(add_output(name, m_.arena.sub(v, held_[k + 1][*j])));
+        values.push_back(a.value);
+      }
+    if (values.empty() || tangents_) return;  // with tangents every switch has ψ already
+    std::vector<Expr> reads = symbolic::leaves(b_.arena, values);
+    for (Expr e : leaves_through_steps(b_, values)) reads.push_back(e);
+    for (std::size_t j = 0; j < b_.inputs.size(); ++j) {
+      if (std::find(reads.begin(), reads.end(), b_.inputs[j].symbol) == reads.end()) continue;
+      symbolic::VariableInfo info;
+      info.name = "$boundary" + std::to_string(k + 1) + ".input." + b_.inputs[j].info.name;
+      PhasedModel::Continuity c{j, add_parameter(info, 0.0), 0, 0};
+      const Expr psi = m_.parameters[c.parameter].symbol;
+      c.before_output = add_output(info.name + ".before", m_.arena.sub(m_.inputs[out_.input(k, j)].symbol, psi));
+      c.after_output = add_output(info.name + ".after", m_.arena.sub(m_.inputs[out_.input(k + 1, j)].symbol, psi));
+      out_.continuity.push_back(c);
+    }
   }
 
   /// Per phase, sign·g for the indicators of the equations with a sign in its mode.
@@ -378,13 +592,12 @@ private:
   /// Copies `roots` of the base arena as seen at the end of phase k (its
   /// states, inputs, algebraics), discrete values of `now` and pre() of `before`.
   std::vector<Expr> phase_copy(std::size_t k, const PhaseMode& now, const PhaseMode& before,
-                               const std::vector<Expr>& roots, Copier* with = nullptr) {
+                               const std::vector<Expr>& roots, Copier* with = nullptr,
+                               std::optional<std::size_t> held_now = {}) {
     Copier own(b_.arena, m_.arena);
     Copier& c = with ? *with : own;
-    map_leaves(c, k, now, before);
-    for (std::size_t i = 0; i < b_.states.size(); ++i)
-      c.set(b_.states[i].derivative, find_algebraic(k, "der(" + b_.states[i].info.name + ")"));
-    for (const auto& a : b_.algebraics) c.set(a.symbol, find_algebraic(k, a.info.name));
+    map_leaves(c, k, now, before, held_now);
+    map_algebraics(c, k);
     c.copy_all(roots);
     std::vector<Expr> out;
     for (Expr r : roots) out.push_back(c.at(r));
@@ -488,6 +701,7 @@ private:
         add_output("$switch" + std::to_string(sw_index + 1) + ".input_after." + b_.inputs[j].info.name,
                    a.sub(m_.inputs[out_.input(k + 1, j)].symbol, m_.parameters[out_.input_parameter[sw_index] + j].symbol));
     }
+    if (sw.timed) return add_timed_sensitivity_jump(k, sw, after);
     const Expr g_tangent = tangents_->indicators[sw.indicator];
     std::vector<Expr> dx(nx, zero), dp(np, zero);
     std::copy(f_minus.begin(), f_minus.end(), dx.begin());
@@ -526,6 +740,43 @@ private:
     }
   }
 
+  /// The base model's derivatives and algebraic variables as phase k's.
+  void map_algebraics(Copier& c, std::size_t k) {
+    for (std::size_t i = 0; i < b_.states.size(); ++i)
+      c.set(b_.states[i].derivative, find_algebraic(k, "der(" + b_.states[i].info.name + ")"));
+    for (const auto& a : b_.algebraics) c.set(a.symbol, find_algebraic(k, a.info.name));
+  }
+
+  /// At a timed switch the time does not move with p (check_sample_tangents):
+  /// η = 0, so S⁺ = δr(S⁻, e_j, 0) for a reinitialised state and S⁻ otherwise.
+  void add_timed_sensitivity_jump(std::size_t k, const PhaseSwitch& sw, std::vector<Expr>& after) {
+    const PhaseMode& before = seq_.modes[lay_.mode[k]];
+    const PhaseMode& next = seq_.modes[lay_.mode[k + 1]];
+    const std::size_t nx = b_.states.size(), np = b_.parameters.size();
+    auto& a = m_.arena;
+    const Expr zero = a.constant(0.0), one = a.constant(1.0);
+    std::vector<Expr> reinit_roots;
+    std::vector<std::size_t> reinit_state;
+    for (std::size_t w : sw.whens)
+      for (std::size_t r = 0; r < b_.whens[w].reinits.size(); ++r) {
+        reinit_roots.push_back(tangents_->whens[w].reinits[r]);
+        reinit_state.push_back(b_.whens[w].reinits[r].state);
+      }
+    if (reinit_roots.empty()) return;  // the identity jump
+    std::map<std::size_t, std::vector<std::pair<std::size_t, std::size_t>>> by_parameter;  // j → (i, state)
+    for (std::size_t s = b_.num_base_states(); s < nx; ++s)
+      if (const auto& of = b_.states[s].sensitivity) by_parameter[of->parameter].push_back({of->state, s});
+    for (const auto& [j, entries] : by_parameter) {
+      std::vector<Expr> dx(nx, zero), dp(np, zero);
+      for (const auto& [i, s] : entries) dx[i] = m_.states[out_.state(k, s)].symbol;
+      dp[j] = one;
+      const std::vector<Expr> dr = tangent_copy(k, next, before, dx, dp, zero, reinit_roots);
+      for (std::size_t r = 0; r < dr.size(); ++r)
+        for (const auto& [i, s] : entries)
+          if (i == reinit_state[r]) after[s] = dr[r];
+    }
+  }
+
   Expr find_algebraic(std::size_t k, const std::string& name) {
     auto s = m_.arena.find_symbol(phase_name(k, name));
     if (!s) throw std::logic_error("multi-phase model: no algebraic " + phase_name(k, name));
@@ -541,6 +792,7 @@ private:
   std::size_t K_;
   std::vector<Expr> taus_;
   std::optional<symbolic::EventTangents> tangents_;  ///< with sensitivity states
+  std::vector<std::vector<Expr>> held_;  ///< per phase and discrete variable: its held value (if held)
   std::size_t tangent_symbols_ = 0;
 };
 
@@ -554,6 +806,11 @@ PhaseLayout phase_layout(const ModeSequence& seq) {
     out.boundaries.push_back({seq.switches[k].time, k, seq.switches[k].states_after});
   }
   return out;
+}
+
+double fixed_end_time(const PhasedModel& pm, const PhaseBoundary& b) {
+  if (!b.switch_index) return b.time;
+  return pm.timed_switch[*b.switch_index] ? b.time : std::nan("");
 }
 
 PhasedModel build_phased_model(OdeModel& base, const RelationMap& rel, const ModeSequence& seq,

@@ -7,6 +7,7 @@
 
 #include "mo/runtime/simulate.hpp"
 #include "mo/symbolic/printer.hpp"
+#include "mo/symbolic/traversal.hpp"
 #include "study_phases.hpp"
 
 namespace mo::tools {
@@ -21,11 +22,13 @@ public:
     std::vector<int> crossings;
     bool time_event = false;
     std::vector<double> x_before, x_after, d_before, d_after;
+    std::vector<int> fired;  ///< per when-clause: times it fired in this call
   };
 
   explicit EventRecorder(std::unique_ptr<runtime::Model> inner) : inner_(std::move(inner)) {}
 
   std::vector<Call> calls;
+  std::vector<int> initial_fired;  ///< per when-clause: times it fired in the last initial_state()
 
   const runtime::ModelInfo& info() const override { return inner_->info(); }
   std::unique_ptr<Model> clone() const override { return std::make_unique<EventRecorder>(inner_->clone()); }
@@ -33,6 +36,7 @@ public:
   void initial_state(double t0, std::span<const double> u0, std::span<const double> p,
                      std::span<double> x0) override {
     inner_->initial_state(t0, u0, p, x0);
+    initial_fired = inner_->take_fired_counts();
   }
   void rhs(double t, std::span<const double> x, std::span<const double> u, std::span<const double> p,
            std::span<double> xdot) override {
@@ -67,10 +71,12 @@ public:
     c.x_after.assign(x.begin(), x.end());
     const auto d2 = inner_->discrete();
     c.d_after.assign(d2.begin(), d2.end());
+    c.fired = inner_->take_fired_counts();
     calls.push_back(std::move(c));
     return r;
   }
   std::span<double> discrete() override { return inner_->discrete(); }
+  std::vector<int> take_fired_counts() override { return inner_->take_fired_counts(); }
   std::string last_failure() const override { return inner_->last_failure(); }
   std::vector<std::string> notes() const override { return inner_->notes(); }
 
@@ -124,26 +130,86 @@ PhaseRefusal refusal(const symbolic::OdeModel& ode, const RelationMap& rel, std:
   return {message + " (indicator " + indicator_text(ode, indicator) + ")", when_of(ode, rel, indicator), indicator};
 }
 
-/// Zeno and chattering: too many switches, or two too close.
+/// Zeno and chattering: too many state-event switches, or two switches too
+/// close; too many time events.
 std::optional<PhaseRefusal> check_switches(const symbolic::OdeModel& ode, const RelationMap& rel,
                                            const std::vector<PhaseSwitch>& sw, std::size_t max_switches,
                                            double min_gap) {
-  if (sw.size() > max_switches) {
-    std::map<std::size_t, std::size_t> count;
-    for (const auto& s : sw) ++count[s.indicator];
+  std::map<std::size_t, std::size_t> count;
+  std::size_t timed = 0;
+  for (const auto& s : sw) s.timed ? ++timed : ++count[s.indicator];
+  if (sw.size() - timed > max_switches) {
     const auto most = std::max_element(count.begin(), count.end(),
                                        [](const auto& a, const auto& b) { return a.second < b.second; });
     return refusal(ode, rel, most->first,
                    fmt::format("the simulation of the initial guess switches {} times (more than {}; "
                                "chattering or Zeno behaviour?), {} of them here",
-                               sw.size(), max_switches, most->second));
+                               sw.size() - timed, max_switches, most->second));
   }
+  if (timed > kMaxTimedSwitches)
+    return PhaseRefusal{fmt::format("the simulation of the initial guess has {} time events that change the model "
+                                    "(more than {}): each is a phase of the collocation",
+                                    timed, kMaxTimedSwitches),
+                        std::nullopt, std::nullopt};
   for (std::size_t k = 1; k < sw.size(); ++k)
-    if (sw[k].time - sw[k - 1].time < min_gap)
-      return refusal(ode, rel, sw[k].indicator,
-                     fmt::format("the simulation of the initial guess switches at t = {:.9g} and again "
-                                 "{:.3g} later (closer than {:.3g}: chattering or Zeno behaviour?)",
-                                 sw[k - 1].time, sw[k].time - sw[k - 1].time, min_gap));
+    if (sw[k].time - sw[k - 1].time < min_gap) {
+      const std::string what = fmt::format("the simulation of the initial guess switches at t = {:.9g} and again "
+                                           "{:.3g} later (closer than {:.3g}: chattering or Zeno behaviour?)",
+                                           sw[k - 1].time, sw[k].time - sw[k - 1].time, min_gap);
+      const PhaseSwitch& s = sw[k].timed ? sw[k - 1] : sw[k];
+      if (s.timed) return PhaseRefusal{what, std::nullopt, std::nullopt};
+      return refusal(ode, rel, s.indicator, what);
+    }
+  return std::nullopt;
+}
+
+/// The clauses with a count in `fired` (not the every-event ones), in order.
+std::vector<std::size_t> fired_clauses(const symbolic::OdeModel& ode, const std::vector<int>& fired) {
+  std::vector<std::size_t> out;
+  for (std::size_t w = 0; w < fired.size() && w < ode.whens.size(); ++w)
+    if (fired[w] > 0 && !ode.whens[w].every_event) out.push_back(w);
+  return out;
+}
+
+bool sets_held(const symbolic::OdeModel& ode, const RelationMap& rel, const std::vector<std::size_t>& whens) {
+  for (std::size_t w : whens)
+    for (const auto& a : ode.whens[w].assignments)
+      for (std::size_t j = 0; j < ode.discrete.size(); ++j)
+        if (rel.held[j] && ode.discrete[j].symbol == a.target) return true;
+  return false;
+}
+
+/// Held values set at t0 that the phases cannot take: a clause that fired
+/// twice there (at initialisation and at a tick) reading pre() of a held
+/// variable, or one that reads a held variable through the equations (the
+/// first phase's equations see its value after t0, not before).
+std::optional<PhaseRefusal> check_initial_whens(const symbolic::OdeModel& ode, const RelationMap& rel,
+                                                const std::vector<int>& fired) {
+  for (std::size_t w : fired_clauses(ode, fired)) {
+    std::vector<symbolic::Expr> values;
+    for (const auto& a : ode.whens[w].assignments) values.push_back(a.value);
+    if (!sets_held(ode, rel, {w})) continue;
+    const auto direct = symbolic::leaves(ode.arena, values);
+    const auto through = leaves_through_steps(ode, values);
+    for (std::size_t j = 0; j < ode.discrete.size(); ++j) {
+      if (!rel.held[j]) continue;
+      const symbolic::Expr d = ode.discrete[j].symbol;
+      const auto reads = [&](const std::vector<symbolic::Expr>& v, bool pre) {
+        return std::any_of(v.begin(), v.end(), [&](symbolic::Expr e) {
+          const bool is_pre = ode.arena.kind(e) == symbolic::ExprKind::Pre;
+          return is_pre == pre && (is_pre ? ode.arena.operand(e, 0) == d : e == d);
+        });
+      };
+      const bool twice = fired[w] > 1 && reads(direct, true);
+      if (twice || reads(through, true) || reads(through, false))
+        return PhaseRefusal{fmt::format("when {}: at t0 it sets a held value from {} of {}, which the "
+                                        "multi-phase collocation cannot order",
+                                        symbolic::to_modelica(ode.arena, ode.whens[w].condition),
+                                        twice ? "pre()" : "the equations' value",
+                                        ode.discrete[j].info.name),
+                            w, std::nullopt};
+    }
+  }
   return std::nullopt;
 }
 
@@ -193,6 +259,11 @@ ModeRecording record_modes(const runtime::Model& model, const symbolic::OdeModel
   const auto d0 = rec.discrete();
   ModeSequence seq;
   seq.modes.push_back({{}, std::vector<double>(d0.begin(), d0.end()), t0, tf});
+  seq.initial_whens = fired_clauses(ode, rec.initial_fired);
+  if (auto r = check_initial_whens(ode, rel, rec.initial_fired)) {
+    out.refusal = r;
+    return out;
+  }
   const runtime::SimulationResult sim = runtime::simulate(rec, inputs, p, runtime::OutputGrid::at({t0, tf}), so);
   if (!sim.ok()) {
     out.simulation_failure = sim.message;
@@ -206,25 +277,41 @@ ModeRecording record_modes(const runtime::Model& model, const symbolic::OdeModel
       if (first.crossings[i] != 0) crossed.push_back(i);
     bool in_equations = false;
     for (std::size_t i : crossed) in_equations = in_equations || rel.in_equations[i];
-    if (first.x_before == last.x_after && first.d_before == last.d_after && !in_equations) continue;
-    if (first.time_event || crossed.empty()) {
-      out.refusal = PhaseRefusal{fmt::format("a time event at t = {:.9g} changes the model; the multi-phase "
-                                             "collocation takes state events only", first.t),
+    std::vector<int> fired(ode.whens.size(), 0);
+    for (std::size_t k = in.first; k < in.last; ++k)
+      for (std::size_t w = 0; w < rec.calls[k].fired.size() && w < fired.size(); ++w) fired[w] += rec.calls[k].fired[w];
+    const std::vector<std::size_t> whens = fired_clauses(ode, fired);
+    // A clause that sets a held value makes a switch even if the value did
+    // not change: under other inputs or parameters it does.
+    if (first.x_before == last.x_after && first.d_before == last.d_after && !in_equations &&
+        !sets_held(ode, rel, whens))
+      continue;
+    const bool timed = crossed.empty();
+    if (timed && first.t >= tf) break;  // a tick at tf changes nothing on the horizon
+    if (timed && !first.time_event) {
+      out.refusal = PhaseRefusal{fmt::format("an event at t = {:.9g} changes the model without a crossing or a "
+                                             "time event", first.t),
                                  std::nullopt, std::nullopt};
       return out;
     }
+    // The sample() flags fall in the iteration after a tick: a time event
+    // may change discrete values by event iteration, a state event not.
     for (std::size_t k = in.first + 1; k < in.last; ++k)
-      if (rec.calls[k].x_before != rec.calls[k].x_after || rec.calls[k].d_before != rec.calls[k].d_after) {
-        out.refusal = refusal(ode, rel, crossed[0],
-                              fmt::format("the event at t = {:.9g} triggers further changes by event "
-                                          "iteration; the multi-phase collocation takes one step per switch",
-                                          first.t));
+      if (rec.calls[k].x_before != rec.calls[k].x_after ||
+          (!timed && rec.calls[k].d_before != rec.calls[k].d_after)) {
+        const std::string what = fmt::format("the event at t = {:.9g} triggers further changes by event iteration; "
+                                             "the multi-phase collocation takes one step per switch", first.t);
+        out.refusal = timed ? PhaseRefusal{what, std::nullopt, std::nullopt} : refusal(ode, rel, crossed[0], what);
         return out;
       }
     PhaseSwitch sw;
     sw.time = first.t;
-    sw.indicator = crossed[0];
-    sw.direction = first.crossings[crossed[0]];
+    sw.timed = timed;
+    sw.whens = whens;
+    if (!timed) {
+      sw.indicator = crossed[0];
+      sw.direction = first.crossings[crossed[0]];
+    }
     for (std::size_t i : crossed) {
       if (i != sw.indicator) sw.also.push_back({i, first.crossings[i]});
       for (std::size_t w : fired_whens(ode, rel, i, first.crossings[i])) sw.whens.push_back(w);
@@ -252,12 +339,16 @@ bool same_modes(const ModeSequence& a, const ModeSequence& b, const RelationMap&
   if (a.switches.size() != b.switches.size() || a.modes.size() != b.modes.size()) return false;
   for (std::size_t k = 0; k < a.switches.size(); ++k) {
     const auto &x = a.switches[k], &y = b.switches[k];
-    if (x.indicator != y.indicator || x.direction != y.direction || x.also != y.also || x.whens != y.whens)
+    if (x.timed != y.timed || x.indicator != y.indicator || x.direction != y.direction || x.also != y.also ||
+        x.whens != y.whens || (x.timed && x.time != y.time))
       return false;
   }
+  if (a.initial_whens != b.initial_whens) return false;
   for (std::size_t k = 0; k < a.modes.size(); ++k) {
     const auto &x = a.modes[k], &y = b.modes[k];
-    if (x.discrete != y.discrete) return false;
+    if (x.discrete.size() != y.discrete.size()) return false;
+    for (std::size_t j = 0; j < x.discrete.size(); ++j)
+      if (x.discrete[j] != y.discrete[j] && !(j < rel.held.size() && rel.held[j])) return false;
     for (std::size_t i = 0; i < rel.in_equations.size(); ++i)
       if (rel.in_equations[i] && i < x.signs.size() && i < y.signs.size() && x.signs[i] != y.signs[i]) return false;
   }

@@ -230,3 +230,27 @@ TEST_CASE("friction: a multistart design solves every start through its own mode
   CHECK(fs::exists(dir / "out" / "designed_input.csv"));
   CHECK(r.err.find("multistart: 4 starts") != std::string::npos);
 }
+
+TEST_CASE("sample() ticks that kick the oscillator: the design's Fisher matrix equals finite differences",
+          "[events][studies][design]") {
+  // Three ticks inside the horizon are timed switches: fixed times, the
+  // sensitivity states jump by the reinit's tangent only.
+  const fs::path dir = scratch("event_design_sampled_kick");
+  const Run r = morun(quoted(kData + "SampledKickDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  REQUIRE(s["events"]["mode_sequence"].size() == 3);
+  CHECK(s["events"]["mode_sequence"][1]["time_event"] == true);
+  CHECK(double(s["events"]["mode_sequence"][1]["time"]) == Approx(0.35 + 0.7).margin(1e-15));
+  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
+  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
+  const Replay replay{"SampledKickDesign.mop", "SampledKick", "F=pwc:" + (dir / "out" / "designed_input.csv").string(),
+                      2.0, 10, "x", 0.01};
+  const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"k", 4.0}, {"J", 0.5}}, dir);
+  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
+  const double scale = fd.cwiseAbs().maxCoeff();
+  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+}

@@ -220,3 +220,64 @@ TEST_CASE("estimation through two bounces recovers g and e from simulated height
   CHECK(double(s["estimates"][0]["standard_error"]) < 1e-6);
   CHECK(fs::exists(dir / "out" / "fit.csv"));
 }
+
+TEST_CASE("estimation through a sampled controller: a held value per phase and statistics through it",
+          "[events][studies]") {
+  // sampled_loop.csv is the exact solution for a = 1.5, b = 2. The Fisher
+  // matrix below is from central differences of that exact solution (step
+  // 1e-6, σ = 0.01): the statistics' sensitivities through the held uh.
+  const fs::path dir = scratch("event_study_sampled_estimation");
+  const Run r = run_study("SampledEstimate.mop", dir / "out", dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  CHECK(s["events"]["phases"] == 20);  // 10 ticks inside (0, 2), every other one on a sample time
+  CHECK(s["events"]["mode_sequence"].size() == 9);
+  CHECK(s["events"]["mode_sequence"][0]["time_event"] == true);
+  CHECK(double(s["parameters"][0]["estimate"]) == Approx(1.5).epsilon(1e-7));
+  CHECK(double(s["parameters"][1]["estimate"]) == Approx(2.0).epsilon(1e-7));
+  const double fisher[2][2] = {{3644.7348878, -3423.6254360}, {-3423.6254360, 3766.8351925}};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) CHECK(double(s["fisher"][i][j]) == Approx(fisher[i][j]).epsilon(1e-6));
+}
+
+TEST_CASE("optimal control through a sampled controller reaches the least-squares optimum of the held values",
+          "[events][studies]") {
+  // The reference is the exact least-squares choice of the ten held values
+  // uh_k on [0.2k, 0.2k + 0.2) for ∫(x − 1)² (SampledTrack.mop): 0.0529149035,
+  // with r = uh_0/kp + x(0) = 4.58136 at t = 0.
+  const fs::path dir = scratch("event_study_sampled_control");
+  const Run r = run_study("SampledTrack.mop", dir / "out", dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  CHECK(s["events"]["phases"] == 10);
+  CHECK(double(s["objective"]) == Approx(0.0529149035).epsilon(1e-6));
+  const auto traj = rows(dir / "out" / "trajectories.csv");
+  REQUIRE(!traj.empty());
+  CHECK(traj.front()[2] == Approx(4.58136).epsilon(1e-5));
+}
+
+TEST_CASE("estimation through the MSL's ZeroOrderHold: held at initialisation and at each tick",
+          "[events][studies]") {
+  const std::string shared = shared_third_party_dir();
+  if (shared.empty()) {
+    WARN("SKIPPED: no ../shared/third_party (set MO_SHARED_DIR)");
+    return;
+  }
+  const ModelicaPath msl(shared + "/third_party/msl-3.2.2");
+  const fs::path dir = scratch("event_study_msl_hold");
+  const Run r = run_study("MslSampledEstimate.mop", dir / "out", dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  CHECK(double(s["parameters"][0]["estimate"]) == Approx(2.0).epsilon(1e-7));  // k
+  CHECK(double(s["parameters"][1]["estimate"]) == Approx(0.4).epsilon(1e-7));  // plant.T
+  // Central differences of the exact solution (msl_sampled_loop.csv), σ = 0.01.
+  const double fisher[2][2] = {{4109.8693735, -9627.1156945}, {-9627.1156945, 38256.201990}};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) CHECK(double(s["fisher"][i][j]) == Approx(fisher[i][j]).epsilon(1e-6));
+}

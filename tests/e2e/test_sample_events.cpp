@@ -157,13 +157,24 @@ TEST_CASE("initial equation pre(y) = y_start fixes the value before initialisati
   }
 }
 
-TEST_CASE("a collocation study on a model with sample() is refused at the tick") {
+TEST_CASE("a collocation study on a model with sample(): each tick that changes it is a phase boundary") {
   const fs::path dir = scratch("sample_study");
   const Run r = morun(quoted(kData + "SampleStudy.mop") + " -o " + quoted((dir / "out").string()), dir);
   INFO(r.err);
+  REQUIRE(r.status == 0);
+  CHECK(r.err.find("3 phases (2 time events from t = 0.25 to 0.75)") != std::string::npos);
+  const std::string summary = slurp(dir / "out" / "summary.json");
+  CHECK(summary.find("\"time_event\": true") != std::string::npos);
+  CHECK(summary.find("\"mode_sequence_held\": true") != std::string::npos);
+}
+
+TEST_CASE("a held value that reads another clause's held value is refused at the clause") {
+  const fs::path dir = scratch("sample_chain");
+  const Run r = morun(quoted(kData + "SampledChain.mop") + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
   CHECK(r.status == 1);
-  CHECK(r.err.find("SampleStudy.mop:9:3: error: when sample(0.25, 0.5): the multi-phase collocation takes "
-                   "when-conditions that are one relation") != std::string::npos);
+  CHECK(r.err.find("SampledChain.mop:13:3: error: when sample(0.1, 0.2): u2 := -u1 reads u1, which another "
+                   "clause sets") != std::string::npos);
   CHECK(!fs::exists(dir / "out" / "summary.json"));
 }
 
