@@ -392,12 +392,15 @@ int monte_carlo_with_events(frontend::flat::Model& flat, const StudyCli& cli, St
   Study s{flat, cli, std::move(opt), std::move(problem), build_model(ode, cli.jobs, "morun", cli.run, cli.quiet)};
   if (!s.info().inputs.empty())
     throw UsageError("monte_carlo on a model with events takes a model without inputs (docs/events.md)");
+  // The model has sensitivity states for the free parameters: with held
+  // values (which CVODES does not carry) the statistics take those.
+  const bool held = std::find(rel.held.begin(), rel.held.end(), true) != rel.held.end();
   StudyCli quiet = cli;
   quiet.quiet = true;
   quiet.run = nullptr;
   quiet.jobs = 1;
   s.estimate = [&](const runtime::EstimationProblem& e) {
-    PhasedEstimate pe = phased_estimate(*s.built.model, ode, rel, e, quiet);
+    PhasedEstimate pe = phased_estimate(*s.built.model, ode, rel, e, quiet, held ? s.built.model.get() : nullptr);
     if (pe.refusal || !pe.error.empty()) {
       runtime::EstimationResult failed;
       failed.status = runtime::OptimizationStatus::invalid_problem;

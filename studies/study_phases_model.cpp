@@ -240,11 +240,6 @@ std::optional<PhaseRefusal> check_event_constructs(const OdeModel& m, const Rela
       if (!j || !rel.held[*j]) continue;
       const std::string assigned = text + ": " + symbolic::to_modelica(m.arena, a.target) + " := " +
                                    symbolic::to_modelica(m.arena, a.value);
-      if (sensitivities)
-        return PhaseRefusal{assigned + " holds a value of the continuous part; the multi-phase collocation "
-                                       "does not carry sensitivity states through held values (design, "
-                                       "monte_carlo)",
-                            w, std::nullopt};
       if (auto why = bad_held_read(m, rel, clause, a.value))
         return PhaseRefusal{assigned + " reads " + *why + "; the multi-phase collocation takes held values "
                                        "that read other held values only through pre()",
@@ -383,9 +378,29 @@ private:
     return sw ? seq_.switches[*sw].whens : std::vector<std::size_t>{};
   }
 
-  /// Per phase the held values: a new unknown where a clause sets one, the
-  /// previous phase's otherwise (the simulation's value in the first phase).
+  /// Which discrete variables are unknowns of the phases: the held values
+  /// and their discrete sensitivities (∂d/∂p, set with d).
+  void mark_unknowns() {
+    unknown_ = rel_.held;
+    unknown_.resize(b_.discrete.size(), false);
+    for (std::size_t i = 0; i < b_.discrete.size(); ++i)
+      if (const auto& of = b_.discrete[i].sensitivity) {
+        unknown_[i] = of->discrete < rel_.held.size() && rel_.held[of->discrete];
+        sensitivity_of_[{of->discrete, of->parameter}] = i;
+      }
+  }
+
+  /// The discrete variable that is ∂d_i/∂p_j, if d_i has one for p_j.
+  std::optional<std::size_t> discrete_sensitivity(std::size_t i, std::size_t j) const {
+    const auto it = sensitivity_of_.find({i, j});
+    return it == sensitivity_of_.end() ? std::nullopt : std::optional<std::size_t>(it->second);
+  }
+
+  /// Per phase the held values (and their sensitivities): a new unknown
+  /// where a clause sets one, the previous phase's otherwise (the
+  /// simulation's value in the first phase).
   void add_held() {
+    mark_unknowns();
     held_.assign(K_, std::vector<Expr>(b_.discrete.size()));
     for (std::size_t k = 0; k < K_; ++k) {
       const PhaseMode& mode = seq_.modes[lay_.mode[k]];
@@ -393,8 +408,10 @@ private:
       for (std::size_t w : whens_at_start(k))
         for (const auto& a : b_.whens[w].assignments)
           for (std::size_t j = 0; j < b_.discrete.size(); ++j) set[j] = set[j] || b_.discrete[j].symbol == a.target;
+      for (std::size_t j = 0; j < b_.discrete.size(); ++j)
+        if (const auto& of = b_.discrete[j].sensitivity) set[j] = set[of->discrete];
       for (std::size_t j = 0; j < b_.discrete.size(); ++j) {
-        if (!rel_.held[j]) continue;
+        if (!unknown_[j]) continue;
         const double value = j < mode.discrete.size() ? mode.discrete[j] : b_.discrete[j].start;
         if (!set[j]) {
           held_[k][j] = k == 0 ? m_.arena.constant(value) : held_[k - 1][j];
@@ -410,21 +427,68 @@ private:
 
   /// The held values the clauses fired at t0 set, at s = 0 of the first
   /// phase: pre() is the start value (check_initial_whens refuses what
-  /// would need more).
+  /// would need more). With sensitivity states, their sensitivities too:
+  /// the value's tangent along (∂x0/∂p_j, e_j, 0), δd the start values.
   void add_initial_held() {
+    const PhaseMode& mode = seq_.modes[lay_.mode[0]];
     for (std::size_t w : seq_.initial_whens)
-      for (const auto& a : b_.whens[w].assignments) {
+      for (std::size_t n = 0; n < b_.whens[w].assignments.size(); ++n) {
+        const auto& a = b_.whens[w].assignments[n];
         const auto j = held_index(a.target);
         if (!j) continue;
-        const PhaseMode& mode = seq_.modes[lay_.mode[0]];
-        Copier c(b_.arena, m_.arena);
-        map_leaves(c, 0, mode, mode);
-        map_algebraics(c, 0);
-        for (std::size_t i = 0; i < b_.discrete.size(); ++i)
-          if (rel_.held[i]) c.set(b_.arena.pre(b_.discrete[i].symbol), m_.arena.constant(b_.discrete[i].start));
-        const Expr value = c.copy(a.value);
+        const Expr value = phase_copy(0, mode, mode, {a.value}, nullptr, {}, true).front();
         out_.held_initial_output.push_back(
             add_output("$initial.held." + b_.discrete[*j].info.name, m_.arena.sub(value, held_[0][*j])));
+        if (!tangents_) continue;
+        for (const auto& [p, entries] : sensitivity_states()) {
+          const auto sd = discrete_sensitivity(*j, p);
+          if (!sd) continue;
+          auto [dx, dp] = unit_direction(0, p, entries);
+          const Expr dv = tangent_copy(0, mode, mode, dx, dp, m_.arena.constant(0.0),
+                                       {tangents_->whens[w].assignments[n]}, p, true).front();
+          out_.held_initial_output.push_back(
+              add_output("$initial.held." + b_.discrete[*sd].info.name, m_.arena.sub(dv, held_[0][*sd])));
+        }
+      }
+  }
+
+  /// Per parameter j with sensitivity states: (base state i, its sensitivity state).
+  std::map<std::size_t, std::vector<std::pair<std::size_t, std::size_t>>> sensitivity_states() const {
+    std::map<std::size_t, std::vector<std::pair<std::size_t, std::size_t>>> out;
+    for (std::size_t s = b_.num_base_states(); s < b_.states.size(); ++s)
+      if (const auto& of = b_.states[s].sensitivity) out[of->parameter].push_back({of->state, s});
+    return out;
+  }
+
+  /// The direction (S^k_j, e_j) of phase k's sensitivity states for parameter j.
+  std::pair<std::vector<Expr>, std::vector<Expr>> unit_direction(
+      std::size_t k, std::size_t j, const std::vector<std::pair<std::size_t, std::size_t>>& entries) {
+    const Expr zero = m_.arena.constant(0.0);
+    std::vector<Expr> dx(b_.states.size(), zero), dp(b_.parameters.size(), zero);
+    for (const auto& [i, s] : entries) dx[i] = m_.states[out_.state(k, s)].symbol;
+    dp[j] = m_.arena.constant(1.0);
+    return {dx, dp};
+  }
+
+  /// The discrete sensitivities of the held values the clauses fired at
+  /// switch `sw` (the end of phase k) set, along the directions `dirs`
+  /// (per parameter: δx, δp, δt as the state jump takes them; δd = S_d^k).
+  void add_held_sensitivities(std::size_t k, const PhaseSwitch& sw,
+                              const std::map<std::size_t, std::tuple<std::vector<Expr>, std::vector<Expr>, Expr>>& dirs) {
+    const PhaseMode& before = seq_.modes[lay_.mode[k]];
+    const PhaseMode& next = seq_.modes[lay_.mode[k + 1]];
+    for (std::size_t w : sw.whens)
+      for (std::size_t n = 0; n < b_.whens[w].assignments.size(); ++n) {
+        const auto j = held_index(b_.whens[w].assignments[n].target);
+        if (!j) continue;
+        for (const auto& [p, dir] : dirs) {
+          const auto sd = discrete_sensitivity(*j, p);
+          if (!sd) continue;
+          const auto& [dx, dp, dt] = dir;
+          const Expr dv = tangent_copy(k, next, before, dx, dp, dt, {tangents_->whens[w].assignments[n]}, p).front();
+          const std::string name = "$boundary" + std::to_string(k + 1) + ".held." + b_.discrete[*sd].info.name;
+          out_.held_output.push_back(add_output(name, m_.arena.sub(dv, held_[k + 1][*sd])));
+        }
       }
   }
 
@@ -447,7 +511,7 @@ private:
     for (std::size_t j = 0; j < b_.parameters.size(); ++j) c.set(b_.parameters[j].symbol, m_.parameters[j].symbol);
     c.set(b_.time, m_.arena.add(taus_[k], m_.arena.mul(m_.time, length(k))));
     for (std::size_t j = 0; j < b_.discrete.size(); ++j) {
-      if (rel_.held[j]) {
+      if (unknown_[j]) {
         c.set(b_.discrete[j].symbol, held_[held_now.value_or(k)][j]);
         c.set(b_.arena.pre(b_.discrete[j].symbol), held_[held_before.value_or(k)][j]);
         continue;
@@ -593,11 +657,14 @@ private:
   /// states, inputs, algebraics), discrete values of `now` and pre() of `before`.
   std::vector<Expr> phase_copy(std::size_t k, const PhaseMode& now, const PhaseMode& before,
                                const std::vector<Expr>& roots, Copier* with = nullptr,
-                               std::optional<std::size_t> held_now = {}) {
+                               std::optional<std::size_t> held_now = {}, bool initial_pre = false) {
     Copier own(b_.arena, m_.arena);
     Copier& c = with ? *with : own;
     map_leaves(c, k, now, before, held_now);
     map_algebraics(c, k);
+    if (initial_pre)  // at t0, before the event at initialisation: the start values
+      for (std::size_t i = 0; i < b_.discrete.size(); ++i)
+        if (unknown_[i]) c.set(b_.arena.pre(b_.discrete[i].symbol), m_.arena.constant(b_.discrete[i].start));
     c.copy_all(roots);
     std::vector<Expr> out;
     for (Expr r : roots) out.push_back(c.at(r));
@@ -606,14 +673,25 @@ private:
 
   /// The event tangents of `roots` (tangent expressions of the base model)
   /// along the direction (δx, δp, δt) at the end of phase k: the tangent steps
-  /// they need are copied with fresh algebraic symbols.
+  /// they need are copied with fresh algebraic symbols. δu = 0 (the controls
+  /// are piecewise constant and continuous at a switch); δd of a held value
+  /// is its sensitivity to `parameter` in phase k (0 without one); at t0
+  /// (`initial`) pre() of a held value is its start value.
   std::vector<Expr> tangent_copy(std::size_t k, const PhaseMode& now, const PhaseMode& before,
                                  const std::vector<Expr>& dx, const std::vector<Expr>& dp, Expr dt,
-                                 const std::vector<Expr>& roots) {
+                                 const std::vector<Expr>& roots, std::optional<std::size_t> parameter = {},
+                                 bool initial = false) {
     const symbolic::EventTangents& t = *tangents_;
     Copier c(b_.arena, m_.arena);
+    const Expr zero = m_.arena.constant(0.0);
     for (std::size_t i = 0; i < t.seed_x.size(); ++i) c.set(t.seed_x[i], dx[i]);
     for (std::size_t j = 0; j < t.seed_p.size(); ++j) c.set(t.seed_p[j], dp[j]);
+    for (Expr u : t.seed_u) c.set(u, zero);
+    for (std::size_t i = 0; i < t.seed_d.size(); ++i) {
+      if (!t.seed_d[i].valid()) continue;
+      const auto sd = parameter ? discrete_sensitivity(i, *parameter) : std::nullopt;
+      c.set(t.seed_d[i], sd && !initial ? held_[k][*sd] : zero);
+    }
     c.set(t.seed_t, dt);
     const std::vector<std::size_t> needed = needed_tangent_steps(roots);
     std::vector<Expr> all = roots;
@@ -630,7 +708,7 @@ private:
       all.insert(all.end(), b.offset.begin(), b.offset.end());
       for (const auto& e : b.jacobian) all.push_back(e.value);
     }
-    std::vector<Expr> out = phase_copy(k, now, before, all, &c);
+    std::vector<Expr> out = phase_copy(k, now, before, all, &c, {}, initial);
     for (std::size_t s : needed) copy_step(c, t.directional.steps[s]);
     out.resize(roots.size());
     return out;
@@ -716,16 +794,18 @@ private:
         reinit_roots.push_back(tangents_->whens[w].reinits[r]);
         reinit_state.push_back(b_.whens[w].reinits[r].state);
       }
+    std::map<std::size_t, std::tuple<std::vector<Expr>, std::vector<Expr>, Expr>> dirs;  // for held values
     for (const auto& [j, entries] : by_parameter) {
       std::fill(dx.begin(), dx.end(), zero);
       std::fill(dp.begin(), dp.end(), zero);
       for (const auto& [i, s] : entries) dx[i] = m_.states[out_.state(k, s)].symbol;
       dp[j] = one;
-      const Expr dg = tangent_copy(k, before, before, dx, dp, zero, {g_tangent}).front();
+      const Expr dg = tangent_copy(k, before, before, dx, dp, zero, {g_tangent}, j).front();
       const Expr eta = a.neg(a.div(dg, gdot));
       for (std::size_t i = 0; i < nb; ++i) dx[i] = a.add(dx[i], a.mul(f_minus[i], eta));
+      dirs[j] = {dx, dp, eta};
       std::vector<Expr> dxplus(dx.begin(), dx.begin() + static_cast<std::ptrdiff_t>(nb));
-      const std::vector<Expr> dr = tangent_copy(k, next, before, dx, dp, eta, reinit_roots);
+      const std::vector<Expr> dr = tangent_copy(k, next, before, dx, dp, eta, reinit_roots, j);
       for (std::size_t r = 0; r < dr.size(); ++r) dxplus[reinit_state[r]] = dr[r];
       std::vector<bool> has(nb, false);
       for (const auto& [i, s] : entries) {
@@ -738,6 +818,7 @@ private:
           throw std::logic_error("multi-phase model: the sensitivity of " + b_.states[i].info.name + " to " +
                                  b_.parameters[j].info.name + " has no state but may jump at an event");
     }
+    add_held_sensitivities(k, sw, dirs);
   }
 
   /// The base model's derivatives and algebraic variables as phase k's.
@@ -748,13 +829,11 @@ private:
   }
 
   /// At a timed switch the time does not move with p (check_sample_tangents):
-  /// η = 0, so S⁺ = δr(S⁻, e_j, 0) for a reinitialised state and S⁻ otherwise.
+  /// η = 0, so S⁺ = δr(S⁻, e_j, 0) for a reinitialised state and S⁻ otherwise,
+  /// and a held value's sensitivity the tangent of its value along the same.
   void add_timed_sensitivity_jump(std::size_t k, const PhaseSwitch& sw, std::vector<Expr>& after) {
     const PhaseMode& before = seq_.modes[lay_.mode[k]];
     const PhaseMode& next = seq_.modes[lay_.mode[k + 1]];
-    const std::size_t nx = b_.states.size(), np = b_.parameters.size();
-    auto& a = m_.arena;
-    const Expr zero = a.constant(0.0), one = a.constant(1.0);
     std::vector<Expr> reinit_roots;
     std::vector<std::size_t> reinit_state;
     for (std::size_t w : sw.whens)
@@ -762,19 +841,18 @@ private:
         reinit_roots.push_back(tangents_->whens[w].reinits[r]);
         reinit_state.push_back(b_.whens[w].reinits[r].state);
       }
-    if (reinit_roots.empty()) return;  // the identity jump
-    std::map<std::size_t, std::vector<std::pair<std::size_t, std::size_t>>> by_parameter;  // j → (i, state)
-    for (std::size_t s = b_.num_base_states(); s < nx; ++s)
-      if (const auto& of = b_.states[s].sensitivity) by_parameter[of->parameter].push_back({of->state, s});
-    for (const auto& [j, entries] : by_parameter) {
-      std::vector<Expr> dx(nx, zero), dp(np, zero);
-      for (const auto& [i, s] : entries) dx[i] = m_.states[out_.state(k, s)].symbol;
-      dp[j] = one;
-      const std::vector<Expr> dr = tangent_copy(k, next, before, dx, dp, zero, reinit_roots);
-      for (std::size_t r = 0; r < dr.size(); ++r)
-        for (const auto& [i, s] : entries)
-          if (i == reinit_state[r]) after[s] = dr[r];
+    std::map<std::size_t, std::tuple<std::vector<Expr>, std::vector<Expr>, Expr>> dirs;
+    for (const auto& [j, entries] : sensitivity_states()) {
+      auto [dx, dp] = unit_direction(k, j, entries);
+      if (!reinit_roots.empty()) {
+        const std::vector<Expr> dr = tangent_copy(k, next, before, dx, dp, m_.arena.constant(0.0), reinit_roots, j);
+        for (std::size_t r = 0; r < dr.size(); ++r)
+          for (const auto& [i, s] : entries)
+            if (i == reinit_state[r]) after[s] = dr[r];
+      }
+      dirs[j] = {std::move(dx), std::move(dp), m_.arena.constant(0.0)};
     }
+    add_held_sensitivities(k, sw, dirs);
   }
 
   Expr find_algebraic(std::size_t k, const std::string& name) {
@@ -792,7 +870,9 @@ private:
   std::size_t K_;
   std::vector<Expr> taus_;
   std::optional<symbolic::EventTangents> tangents_;  ///< with sensitivity states
-  std::vector<std::vector<Expr>> held_;  ///< per phase and discrete variable: its held value (if held)
+  std::vector<std::vector<Expr>> held_;  ///< per phase and discrete variable: its held value (if unknown_)
+  std::vector<bool> unknown_;            ///< per discrete variable: held, or the sensitivity of a held one
+  std::map<std::pair<std::size_t, std::size_t>, std::size_t> sensitivity_of_;  ///< (d, p) → ∂d/∂p's index
   std::size_t tangent_symbols_ = 0;
 };
 

@@ -254,3 +254,48 @@ TEST_CASE("sample() ticks that kick the oscillator: the design's Fisher matrix e
   CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
   CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
 }
+
+TEST_CASE("a set point designed through a sampled controller: the Fisher matrix equals finite differences",
+          "[events][studies][design]") {
+  // The held control and its sensitivities to a and b are unknowns of each
+  // phase, set at each tick from the tangent of kp·(r − x); the samples fall
+  // on the ticks.
+  const fs::path dir = scratch("event_design_sampled_loop");
+  const Run r = morun(quoted(kData + "SampledDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  CHECK(s["events"]["mode_sequence"].size() == 9);
+  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
+  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
+  const Replay replay{"SampledDesign.mop", "SampledPlant", "r=pwc:" + (dir / "out" / "designed_input.csv").string(),
+                      2.0, 10, "x", 0.01};
+  const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"a", 1.5}, {"b", 2.0}}, dir);
+  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
+  const double scale = fd.cwiseAbs().maxCoeff();
+  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+}
+
+TEST_CASE("Monte Carlo through a sampled controller: the Cramer-Rao bound through the held control",
+          "[events][studies]") {
+  // The bound is that of the Fisher matrix from central differences of the
+  // exact piecewise-exponential solution (SampledEstimate's 20 samples, σ = 0.01).
+  const fs::path dir = scratch("event_monte_carlo_sampled");
+  const Run r = morun(quoted(kData + "SampledMonteCarlo.mop") + " -j 1 -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  REQUIRE(s["cases"].size() == 1);
+  const json& c = s["cases"][0];
+  CHECK(c["runs"] == 4);
+  CHECK(c["failures"] == 0);
+  const double bound[2] = {0.0433128520, 0.0426050857};
+  for (std::size_t i = 0; i < 2; ++i) {
+    const json& p = c["parameters"][i];
+    INFO(p.dump());
+    CHECK(double(p["cramer_rao"]) == Approx(bound[i]).epsilon(1e-6));
+    CHECK(std::abs(double(p["bias"])) < 2.0 * bound[i]);
+  }
+}
