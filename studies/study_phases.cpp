@@ -7,7 +7,9 @@
 #include <iostream>
 
 #include "mo/runtime/simulate.hpp"
+#include "mo/symbolic/evaluator.hpp"
 #include "mo/symbolic/printer.hpp"
+#include "mo/symbolic/traversal.hpp"
 #include "study_events.hpp"
 #include "study_internal.hpp"
 #include "study_output.hpp"
@@ -129,11 +131,32 @@ runtime::OptimalControlProblem phased_problem(const runtime::OptimalControlProbl
   return Q;
 }
 
+namespace {
+
+/// A timed switch's time at the solution: its tick's start + k·interval at
+/// the solved parameters, or `fixed` for a tick that does not move.
+double solved_tick_time(const PhasedModel& pm, const runtime::OptimizationResult& r, std::size_t sw, double fixed) {
+  const symbolic::Expr tau = pm.tick_time[sw];
+  if (!tau.valid()) return fixed;
+  symbolic::LeafValues values;
+  for (symbolic::Expr leaf : symbolic::leaves(pm.ode.arena, {&tau, 1})) {
+    const auto index = static_cast<std::size_t>(pm.ode.arena.symbol_info(leaf).index);
+    values[leaf] = index < r.parameters.size() ? r.parameters[index] : pm.ode.parameters[index].value;
+  }
+  return symbolic::evaluate(pm.ode.arena, {&tau, 1}, values).front();
+}
+
+}  // namespace
+
 /// The phases' boundaries τ_0 = t0 < τ_1 < ... < τ_K = tf at the solution.
 std::vector<double> boundary_times(const PhasedModel& pm, const runtime::OptimizationResult& r, double t0, double tf) {
   std::vector<double> taus{t0};
   for (const auto& b : pm.layout.boundaries) {
-    if (!b.switch_index || pm.timed_switch[*b.switch_index]) {
+    if (b.switch_index && pm.timed_switch[*b.switch_index]) {
+      taus.push_back(solved_tick_time(pm, r, *b.switch_index, b.time));
+      continue;
+    }
+    if (!b.switch_index) {
       taus.push_back(b.time);
       continue;
     }
@@ -147,7 +170,13 @@ std::vector<double> boundary_times(const PhasedModel& pm, const runtime::Optimiz
 /// The switching times at the solution, one per switch.
 std::vector<double> solved_switch_times(const PhasedModel& pm, const runtime::OptimizationResult& r) {
   std::vector<double> out;
-  for (std::size_t p : pm.switch_time) out.push_back(p < r.parameters.size() ? r.parameters[p] : std::nan(""));
+  for (std::size_t k = 0; k < pm.switch_time.size(); ++k) {
+    const std::size_t p = pm.switch_time[k];
+    const double guess = pm.ode.parameters[p].value;
+    out.push_back(pm.timed_switch[k] ? solved_tick_time(pm, r, k, guess)
+                  : p < r.parameters.size() ? r.parameters[p]
+                                            : std::nan(""));
+  }
   return out;
 }
 

@@ -48,6 +48,10 @@ struct PhaseSwitch {
   /// A time event (sample() ticks): its time is fixed, it has no indicator
   /// (`indicator`, `direction` and `also` unused).
   bool timed = false;
+  /// A timed switch's tick: the sample() (OdeModel::samples index) and k of
+  /// τ = start + k·interval, if start and interval are parameter expressions
+  /// (then τ moves with the parameters).
+  std::optional<std::pair<std::size_t, double>> tick;
   std::size_t indicator = 0;        ///< the indicator that crossed
   int direction = 0;                ///< −1 downwards, +1 upwards
   /// Other indicators that crossed at the same instant, with their
@@ -134,7 +138,7 @@ ModeRecording record_modes(const runtime::Model& model, const symbolic::OdeModel
                            std::size_t max_switches, double min_gap);
 
 /// True if the two sequences have the same switches (indicator, direction,
-/// clauses; a timed switch its time) and modes (signs of the indicators of
+/// clauses; a timed switch its tick, else its time) and modes (signs of the indicators of
 /// the equations, discrete values but the held ones).
 bool same_modes(const ModeSequence& a, const ModeSequence& b, const RelationMap& rel);
 
@@ -165,6 +169,9 @@ struct PhasedModel {
   std::size_t nx = 0, nu = 0, np = 0, ny = 0;  ///< sizes of the base model
   std::vector<std::size_t> switch_time;        ///< parameter index of τ_k, per switch (fixed if timed)
   std::vector<bool> timed_switch;              ///< per switch: a time event (PhaseSwitch::timed)
+  /// Per switch: a timed switch's τ = start + k·interval over the
+  /// parameters (PhaseSwitch::tick), else an invalid Expr.
+  std::vector<symbolic::Expr> tick_time;
   std::vector<std::size_t> phase_start;        ///< first parameter index of q^{k+1}, per boundary
   std::vector<std::size_t> indicator_output;   ///< output index of g, per switch
   std::vector<std::size_t> jump_output;        ///< first of nx output indices, per boundary

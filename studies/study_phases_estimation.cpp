@@ -16,6 +16,7 @@
 
 #include "mo/runtime/simulate.hpp"
 #include "mo/symbolic/printer.hpp"
+#include "mo/symbolic/traversal.hpp"
 #include "study_events.hpp"
 #include "study_internal.hpp"
 #include "study_output.hpp"
@@ -103,6 +104,27 @@ std::map<std::size_t, double> stuck_switches(const std::vector<double>& switches
 }
 
 namespace {
+
+/// A reason if a tick that moves with an estimated parameter lies on a
+/// sample time: the sample is taken at the end of the phase before the tick,
+/// which would move away from its time.
+std::optional<std::string> moving_tick_on_sample(const symbolic::OdeModel& ode, const ModeSequence& seq,
+                                                 const runtime::EstimationProblem& e,
+                                                 const std::vector<double>& times, double min_gap) {
+  for (const auto& sw : seq.switches) {
+    if (!sw.timed || !sw.tick) continue;
+    const symbolic::Expr roots[] = {ode.samples[sw.tick->first].start, ode.samples[sw.tick->first].interval};
+    bool moving = false;
+    for (symbolic::Expr leaf : symbolic::leaves(ode.arena, roots))
+      for (const auto& fp : e.parameters) moving = moving || leaf == ode.parameters[fp.parameter].symbol;
+    if (!moving) continue;
+    for (double t : times)
+      if (std::abs(t - sw.time) < min_gap)
+        return fmt::format("the tick at t = {:.9g} moves with an estimated parameter and lies on a sample "
+                           "time; sample between the ticks", sw.time);
+  }
+  return std::nullopt;
+}
 
 /// χ² = Σ ((y − m)/σ)² as an output of the stacked model: each sample is the
 /// output at the end of the phase that ends at its time; a sample at t0 of a
@@ -246,6 +268,10 @@ PhasedEstimate phased_estimate(const runtime::Model& model, symbolic::OdeModel& 
     for (const auto& [k, t] : moved)
       if (k < seq.switches.size()) seq.switches[k].time = t;
     moved.clear();
+    if (auto why = moving_tick_on_sample(ode, seq, e, data.times, min_gap)) {
+      out.error = "estimation on a model with events: " + *why;
+      return out;
+    }
     std::string why;
     auto layout = sample_layout(model, seq, data.times, runtime::Inputs(), guess, t0, tf, min_gap, why);
     if (!layout) {

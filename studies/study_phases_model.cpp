@@ -84,10 +84,13 @@ public:
     if (b_.num_base_states() < b_.states.size()) tangents_ = symbolic::event_tangents(b_);
     add_parameters();
     taus_.push_back(m_.arena.constant(t0));
-    for (const auto& b : lay_.boundaries)
-      taus_.push_back(b.switch_index && !seq_.switches[*b.switch_index].timed
-                          ? m_.parameters[out_.switch_time[*b.switch_index]].symbol
-                          : m_.arena.constant(b.time));
+    for (const auto& b : lay_.boundaries) {
+      const auto sw = b.switch_index;
+      taus_.push_back(!sw                                     ? m_.arena.constant(b.time)
+                      : out_.tick_time[*sw].valid()           ? out_.tick_time[*sw]
+                      : !seq_.switches[*sw].timed             ? m_.parameters[out_.switch_time[*sw]].symbol
+                                                              : m_.arena.constant(b.time));
+    }
     taus_.push_back(m_.arena.constant(tf));
     add_variables();
     add_held();
@@ -122,6 +125,7 @@ private:
       info.name = "$switch" + std::to_string(k + 1) + ".time";
       out_.switch_time.push_back(add_parameter(info, seq_.switches[k].time));
       out_.timed_switch.push_back(seq_.switches[k].timed);
+      out_.tick_time.push_back(tick_time(seq_.switches[k]));
     }
     if (tangents_)
       for (std::size_t k = 0; k < seq_.switches.size(); ++k) {
@@ -184,6 +188,16 @@ private:
     y.value = value;
     m_.outputs.push_back(std::move(y));
     return m_.outputs.size() - 1;
+  }
+
+  /// τ = start + k·interval of a timed switch's tick over the parameters, or
+  /// an invalid Expr.
+  Expr tick_time(const PhaseSwitch& sw) {
+    if (!sw.timed || !sw.tick) return {};
+    const auto& smp = b_.samples[sw.tick->first];
+    Copier c(b_.arena, m_.arena);
+    for (std::size_t j = 0; j < b_.parameters.size(); ++j) c.set(b_.parameters[j].symbol, m_.parameters[j].symbol);
+    return m_.arena.add(c.copy(smp.start), m_.arena.mul(m_.arena.constant(sw.tick->second), c.copy(smp.interval)));
   }
 
   /// The clauses that fire where phase k starts: at t0, or at the switch before it.

@@ -6,6 +6,7 @@
 #include <map>
 
 #include "mo/runtime/simulate.hpp"
+#include "mo/symbolic/evaluator.hpp"
 #include "mo/symbolic/printer.hpp"
 #include "mo/symbolic/traversal.hpp"
 #include "study_phases.hpp"
@@ -171,6 +172,32 @@ std::vector<std::size_t> fired_clauses(const symbolic::OdeModel& ode, const std:
   return out;
 }
 
+/// The sample() and tick index k of a tick at t with parameters p, if its
+/// start and interval are expressions over the parameters.
+std::optional<std::pair<std::size_t, double>> tick_at(const symbolic::OdeModel& ode, const std::vector<double>& p,
+                                                     double t) {
+  for (std::size_t i = 0; i < ode.samples.size(); ++i) {
+    const symbolic::Expr roots[] = {ode.samples[i].start, ode.samples[i].interval};
+    symbolic::LeafValues values;
+    bool parameters = true;
+    for (symbolic::Expr leaf : symbolic::leaves(ode.arena, roots)) {
+      const bool is_parameter = ode.arena.kind(leaf) == symbolic::ExprKind::Symbol &&
+                                ode.arena.symbol_info(leaf).role == symbolic::SymbolRole::Parameter;
+      const auto index = is_parameter ? static_cast<std::size_t>(ode.arena.symbol_info(leaf).index) : p.size();
+      if (index >= p.size()) {
+        parameters = false;
+        break;
+      }
+      values[leaf] = p[index];
+    }
+    if (!parameters) continue;
+    const auto v = symbolic::evaluate(ode.arena, roots, values);
+    const double k = std::round((t - v[0]) / v[1]);
+    if (k >= 0 && std::abs(v[0] + k * v[1] - t) <= 1e-12 * std::max(1.0, std::abs(t))) return std::pair{i, k};
+  }
+  return std::nullopt;
+}
+
 bool sets_held(const symbolic::OdeModel& ode, const RelationMap& rel, const std::vector<std::size_t>& whens) {
   for (std::size_t w : whens)
     for (const auto& a : ode.whens[w].assignments)
@@ -307,6 +334,7 @@ ModeRecording record_modes(const runtime::Model& model, const symbolic::OdeModel
     PhaseSwitch sw;
     sw.time = first.t;
     sw.timed = timed;
+    if (timed) sw.tick = tick_at(ode, p, first.t);
     sw.whens = whens;
     if (!timed) {
       sw.indicator = crossed[0];
@@ -340,7 +368,7 @@ bool same_modes(const ModeSequence& a, const ModeSequence& b, const RelationMap&
   for (std::size_t k = 0; k < a.switches.size(); ++k) {
     const auto &x = a.switches[k], &y = b.switches[k];
     if (x.timed != y.timed || x.indicator != y.indicator || x.direction != y.direction || x.also != y.also ||
-        x.whens != y.whens || (x.timed && x.time != y.time))
+        x.whens != y.whens || x.tick != y.tick || (x.timed && !x.tick && x.time != y.time))
       return false;
   }
   if (a.initial_whens != b.initial_whens) return false;

@@ -281,3 +281,25 @@ TEST_CASE("estimation through the MSL's ZeroOrderHold: held at initialisation an
   for (int i = 0; i < 2; ++i)
     for (int j = 0; j < 2; ++j) CHECK(double(s["fisher"][i][j]) == Approx(fisher[i][j]).epsilon(1e-6));
 }
+
+TEST_CASE("the sample period estimated through ticks that move with it", "[events][studies]") {
+  // Each tick is a phase boundary at τ = k·T. The Fisher matrix below is
+  // from central differences of the exact solution (a = 1.5, T = 0.2; step
+  // 1e-7, σ = 0.01). Samples on ticks that move are refused.
+  const fs::path dir = scratch("event_study_sampled_period");
+  const Run r = run_study("SampledPeriod.mop", dir / "out", dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  CHECK(double(s["parameters"][0]["estimate"]) == Approx(1.5).epsilon(1e-7));
+  CHECK(double(s["parameters"][1]["estimate"]) == Approx(0.2).epsilon(1e-7));
+  CHECK(double(s["events"]["switch_times"][8]) == Approx(1.8).epsilon(1e-7));
+  const double fisher[2][2] = {{3500.73509, -1378.84962}, {-1378.84962, 2807.81326}};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) CHECK(double(s["fisher"][i][j]) == Approx(fisher[i][j]).epsilon(1e-6));
+  const Run on_ticks = run_study("SampledPeriodOnTicks.mop", dir / "on_ticks", dir);
+  INFO(on_ticks.err);
+  CHECK(on_ticks.status == 1);
+  CHECK(on_ticks.err.find("moves with an estimated parameter and lies on a sample time") != std::string::npos);
+}
