@@ -111,9 +111,8 @@ struct PhaseRefusal {
 /// sample(), initial(), discrete variables and parameters); reinit values
 /// over states, parameters, time, pre() and discrete variables only (no
 /// algebraic unknowns); a held value reading no other held value but pre()
-/// and its own clause's (through the equations neither); no sample() that
-/// moves with a parameter of the sensitivities; no relation of the equations
-/// on an input. nullopt if all hold.
+/// and its own clause's (through the equations neither); no relation of the
+/// equations on an input. nullopt if all hold.
 std::optional<PhaseRefusal> check_event_constructs(const symbolic::OdeModel& ode, const RelationMap& rel);
 
 /// Simulates `model` from t0 to tf with `inputs` and `p`, recording every

@@ -138,33 +138,9 @@ std::optional<std::string> bad_held_read(const OdeModel& m, const RelationMap& r
   return std::nullopt;
 }
 
-/// With sensitivity states: a sample() that moves with a parameter of the sensitivities.
-std::optional<PhaseRefusal> check_sample_tangents(const OdeModel& m) {
-  std::vector<bool> sensitive(m.parameters.size(), false);
-  for (const auto& s : m.states)
-    if (s.sensitivity) sensitive[s.sensitivity->parameter] = true;
-  for (const auto& smp : m.samples) {
-    const Expr roots[] = {smp.start, smp.interval};
-    for (Expr leaf : symbolic::leaves(m.arena, roots)) {
-      if (m.arena.kind(leaf) != ExprKind::Symbol) continue;
-      const auto& info = m.arena.symbol_info(leaf);
-      if (info.role == SymbolRole::Parameter && info.index >= 0 && sensitive[static_cast<std::size_t>(info.index)])
-        return PhaseRefusal{"sample(" + symbolic::to_modelica(m.arena, smp.start) + ", " +
-                                symbolic::to_modelica(m.arena, smp.interval) + ") moves with " + info.name +
-                                ", a parameter of the sensitivities; the multi-phase collocation takes ticks at "
-                                "fixed times",
-                            std::nullopt, std::nullopt};
-    }
-  }
-  return std::nullopt;
-}
-
 }  // namespace
 
 std::optional<PhaseRefusal> check_event_constructs(const OdeModel& m, const RelationMap& rel) {
-  const bool sensitivities = m.num_base_states() < m.states.size();
-  if (sensitivities)
-    if (auto r = check_sample_tangents(m)) return r;
   for (std::size_t i = 0; i < m.zero_crossings.size(); ++i)
     if (rel.in_equations[i] && uses_role(m.arena, m.zero_crossings[i], {SymbolRole::Input}))
       return PhaseRefusal{"the relation " + symbolic::to_modelica(m.arena, m.zero_crossings[i]) +

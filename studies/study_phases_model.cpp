@@ -576,9 +576,11 @@ private:
   }
 
   /// The sensitivity states' jump at switch `sw` (the end of phase k), into
-  /// `after` (docs/events.md): with η_j = dτ/dp_j = −δg(S⁻_j, e_j, 0) / δg(f⁻, 0, 1),
+  /// `after` (docs/events.md): with η_j = dτ/dp_j = −δg(S⁻_j, e_j, 0) / δg(f⁻, 0, 1)
+  /// at a crossing, δstart + k·δinterval along e_j at a tick,
   /// S⁺_j = δr(S⁻_j + f⁻ η_j, e_j, η_j) − f⁺ η_j, f⁺ the parameters φ that
-  /// equal der(x) at the start of the next phase.
+  /// equal der(x) at the start of the next phase; the held values'
+  /// sensitivities along the same directions.
   void add_sensitivity_jump(std::size_t k, std::size_t sw_index, std::vector<Expr>& after) {
     const PhaseSwitch& sw = seq_.switches[sw_index];
     const PhaseMode& before = seq_.modes[lay_.mode[k]];
@@ -608,11 +610,12 @@ private:
         add_output("$switch" + std::to_string(sw_index + 1) + ".input_after." + b_.inputs[j].info.name,
                    a.sub(m_.inputs[out_.input(k + 1, j)].symbol, m_.parameters[out_.input_parameter[sw_index] + j].symbol));
     }
-    if (sw.timed) return add_timed_sensitivity_jump(k, sw, after);
-    const Expr g_tangent = tangents_->indicators[sw.indicator];
+    // η = dτ/dp: a tick's from its start and interval, a crossing's from its indicator.
+    const Expr tick_tangent = sw.timed ? base_tick_tangent(sw) : Expr();
+    const Expr g_tangent = sw.timed ? Expr() : tangents_->indicators[sw.indicator];
     std::vector<Expr> dx(nx, zero), dp(np, zero);
     std::copy(f_minus.begin(), f_minus.end(), dx.begin());
-    const Expr gdot = tangent_copy(k, before, before, dx, dp, one, {g_tangent}).front();
+    const Expr gdot = sw.timed ? one : tangent_copy(k, before, before, dx, dp, one, {g_tangent}).front();
     std::map<std::size_t, std::vector<std::pair<std::size_t, std::size_t>>> by_parameter;  // j → (i, state)
     for (std::size_t s = nb; s < nx; ++s)
       if (const auto& of = b_.states[s].sensitivity) by_parameter[of->parameter].push_back({of->state, s});
@@ -629,8 +632,8 @@ private:
       std::fill(dp.begin(), dp.end(), zero);
       for (const auto& [i, s] : entries) dx[i] = m_.states[out_.state(k, s)].symbol;
       dp[j] = one;
-      const Expr dg = tangent_copy(k, before, before, dx, dp, zero, {g_tangent}, j).front();
-      const Expr eta = a.neg(a.div(dg, gdot));
+      const Expr eta = sw.timed ? tangent_copy(k, before, before, dx, dp, zero, {tick_tangent}, j).front()
+                                : a.neg(a.div(tangent_copy(k, before, before, dx, dp, zero, {g_tangent}, j).front(), gdot));
       for (std::size_t i = 0; i < nb; ++i) dx[i] = a.add(dx[i], a.mul(f_minus[i], eta));
       dirs[j] = {dx, dp, eta};
       std::vector<Expr> dxplus(dx.begin(), dx.begin() + static_cast<std::ptrdiff_t>(nb));
@@ -657,31 +660,13 @@ private:
     for (const auto& a : b_.algebraics) c.set(a.symbol, find_algebraic(k, a.info.name));
   }
 
-  /// At a timed switch the time does not move with p (check_sample_tangents):
-  /// η = 0, so S⁺ = δr(S⁻, e_j, 0) for a reinitialised state and S⁻ otherwise,
-  /// and a held value's sensitivity the tangent of its value along the same.
-  void add_timed_sensitivity_jump(std::size_t k, const PhaseSwitch& sw, std::vector<Expr>& after) {
-    const PhaseMode& before = seq_.modes[lay_.mode[k]];
-    const PhaseMode& next = seq_.modes[lay_.mode[k + 1]];
-    std::vector<Expr> reinit_roots;
-    std::vector<std::size_t> reinit_state;
-    for (std::size_t w : sw.whens)
-      for (std::size_t r = 0; r < b_.whens[w].reinits.size(); ++r) {
-        reinit_roots.push_back(tangents_->whens[w].reinits[r]);
-        reinit_state.push_back(b_.whens[w].reinits[r].state);
-      }
-    std::map<std::size_t, std::tuple<std::vector<Expr>, std::vector<Expr>, Expr>> dirs;
-    for (const auto& [j, entries] : sensitivity_states()) {
-      auto [dx, dp] = unit_direction(k, j, entries);
-      if (!reinit_roots.empty()) {
-        const std::vector<Expr> dr = tangent_copy(k, next, before, dx, dp, m_.arena.constant(0.0), reinit_roots, j);
-        for (std::size_t r = 0; r < dr.size(); ++r)
-          for (const auto& [i, s] : entries)
-            if (i == reinit_state[r]) after[s] = dr[r];
-      }
-      dirs[j] = {std::move(dx), std::move(dp), m_.arena.constant(0.0)};
-    }
-    add_held_sensitivities(k, sw, dirs);
+  /// δτ of a timed switch's tick in the base arena: δstart + k·δinterval
+  /// (0 for a tick that is not start + k·interval over the parameters).
+  Expr base_tick_tangent(const PhaseSwitch& sw) {
+    if (!sw.tick) return b_.arena.constant(0.0);
+    const std::size_t i = sw.tick->first;
+    return b_.arena.add(tangents_->sample_starts[i],
+                        b_.arena.mul(b_.arena.constant(sw.tick->second), tangents_->sample_intervals[i]));
   }
 
   Expr find_algebraic(std::size_t k, const std::string& name) {

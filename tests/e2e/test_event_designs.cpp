@@ -299,3 +299,26 @@ TEST_CASE("Monte Carlo through a sampled controller: the Cramer-Rao bound throug
     CHECK(std::abs(double(p["bias"])) < 2.0 * bound[i]);
   }
 }
+
+TEST_CASE("a kick period designed through ticks that move with it: the Fisher matrix equals finite differences",
+          "[events][studies][design]") {
+  // Tick n of sample(0.35, P) moves by dτ/dP = n: the sensitivity states jump
+  // with that η at each kick (δstart + n·δinterval of the tick).
+  const fs::path dir = scratch("event_design_sampled_period");
+  const Run r = morun(quoted(kData + "SampledPeriodDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  REQUIRE(s["events"]["mode_sequence"].size() == 3);
+  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
+  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
+  const Replay replay{"SampledPeriodDesign.mop", "PeriodicKick", "F=pwc:" + (dir / "out" / "designed_input.csv").string(),
+                      2.0, 10, "x", 0.01};
+  const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"P", 0.7}, {"J", 0.5}}, dir);
+  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
+  const double scale = fd.cwiseAbs().maxCoeff();
+  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  CHECK(fd(0, 0) > 1000.0);  // P is determined through the moving kicks only
+}
