@@ -2,7 +2,8 @@
 // of sample(0, T) the controller holds uh = kp·(r − x) until the next one.
 // uh is a held value (set from the continuous part), so studies on this
 // model have one unknown uh per phase (docs/events.md). Used by
-// SampledEstimate.mop; SampledTrack.mop has its set point as an input.
+// SampledEstimate.mop, SampledPeriod*.mop and SampledMonteCarlo.mop;
+// SampledTrack.mop and SampledDesign.mop have the set point as an input.
 model SampledLoop
   parameter Real a(min = 0.1, max = 10) = 1.5 "plant pole";
   parameter Real b(min = 0.1, max = 10) = 2 "plant gain";
