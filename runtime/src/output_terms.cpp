@@ -136,24 +136,42 @@ void LeastSquares::hessian(CollocationNlp& nlp, std::span<const double> v, doubl
 
 // --- output constraints --------------------------------------------------------
 
+OutputConstraints::OutputConstraints(std::vector<OutputAtPoint> rows) : rows_(std::move(rows)) {
+  std::map<std::tuple<int, int, double>, std::size_t> group;  // (experiment, element, τ) → at_point_ index
+  for (std::size_t r = 0; r < rows_.size(); ++r) {
+    const PointRef& p = rows_[r].point;
+    const auto [it, fresh] = group.try_emplace({p.experiment, p.element, p.tau}, at_point_.size());
+    if (fresh) at_point_.emplace_back();
+    at_point_[it->second].push_back(r);
+  }
+}
+
 void OutputConstraints::bounds(std::span<double> lo, std::span<double> hi) const {
   for (std::size_t r = 0; r < rows_.size(); ++r) lo[r] = rows_[r].bounds.lo, hi[r] = rows_[r].bounds.hi;
 }
 
 void OutputConstraints::values(CollocationNlp& nlp, std::span<const double> v,
                                std::span<double> g) {
-  for (std::size_t r = 0; r < rows_.size(); ++r) g[r] = nlp.outputs(v, rows_[r].point)[rows_[r].output];
+  for (const auto& rows : at_point_) {
+    const std::vector<double> y = nlp.outputs(v, rows_[rows.front()].point);
+    for (std::size_t r : rows) g[r] = y[rows_[r].output];
+  }
 }
 
 void OutputConstraints::jacobian(CollocationNlp& nlp, std::span<const double> v, int row0,
                                  SparseAssembler& jac) {
-  for (std::size_t r = 0; r < rows_.size(); ++r) {
-    const OutputAtPoint& q = rows_[r];
-    Eigen::MatrixXd j = nlp.output_jacobian(v, q.point);
-    VariableMap map = nlp.variable_map(q.point);
-    for (int z : output_dependencies(nlp.model(0), q.output))
-      for (auto [var, coeff] : map[std::size_t(z)])
-        jac.add(row0 + int(r), var, coeff * j(Eigen::Index(q.output), z));
+  for (const auto& rows : at_point_) {
+    const PointRef& pt = rows_[rows.front()].point;
+    const Eigen::MatrixXd j = nlp.output_jacobian(v, pt);
+    const VariableMap map = nlp.variable_map(pt);
+    for (std::size_t r : rows) {
+      const std::size_t k = rows_[r].output;
+      auto deps = dependencies_.find(k);
+      if (deps == dependencies_.end()) deps = dependencies_.emplace(k, output_dependencies(nlp.model(0), k)).first;
+      for (int z : deps->second)
+        for (auto [var, coeff] : map[std::size_t(z)])
+          jac.add(row0 + int(r), var, coeff * j(Eigen::Index(k), z));
+    }
   }
 }
 
@@ -164,10 +182,10 @@ bool OutputConstraints::has_hessian(const CollocationNlp& nlp) const {
 void OutputConstraints::hessian(CollocationNlp& nlp, std::span<const double> v,
                                 std::span<const double> lambda, SparseAssembler& hess) {
   std::vector<double> mu(nlp.info().outputs.size());
-  for (std::size_t r = 0; r < rows_.size(); ++r) {
+  for (const auto& rows : at_point_) {
     std::fill(mu.begin(), mu.end(), 0.0);
-    mu[rows_[r].output] = lambda[r];
-    nlp.add_model_hessian(Hessian::h, v, rows_[r].point, mu, 1.0, hess);
+    for (std::size_t r : rows) mu[rows_[r].output] += lambda[r];
+    nlp.add_model_hessian(Hessian::h, v, rows_[rows.front()].point, mu, 1.0, hess);
   }
 }
 

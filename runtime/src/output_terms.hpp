@@ -6,6 +6,9 @@
 // provides it (the least-squares term adds its Gauss–Newton part 2 Jᵀ Σ⁻¹ J).
 #pragma once
 
+#include <map>
+#include <tuple>
+
 #include "collocation_nlp.hpp"
 
 namespace mo::runtime::detail {
@@ -54,9 +57,14 @@ private:
 };
 
 /// lo ≤ y_k(point) ≤ hi, one row per entry.
+///
+/// Rows at one point share one evaluation of the outputs, of their dense
+/// Jacobian and of the model's output Hessian (weighted by all their
+/// multipliers): a multi-phase model has many outputs, and each evaluation
+/// costs as much as all of them.
 class OutputConstraints final : public ConstraintBlock {
 public:
-  explicit OutputConstraints(std::vector<OutputAtPoint> rows) : rows_(std::move(rows)) {}
+  explicit OutputConstraints(std::vector<OutputAtPoint> rows);
   [[nodiscard]] int rows() const override { return static_cast<int>(rows_.size()); }
   void bounds(std::span<double> lo, std::span<double> hi) const override;
   void values(CollocationNlp& nlp, std::span<const double> v, std::span<double> g) override;
@@ -68,6 +76,8 @@ public:
 
 private:
   std::vector<OutputAtPoint> rows_;
+  std::vector<std::vector<std::size_t>> at_point_;  ///< rows_ indices per distinct point
+  std::map<std::size_t, std::vector<int>> dependencies_;  ///< per output: output_dependencies()
 };
 
 /// z-indices (x, u, p) on which output k depends structurally.
