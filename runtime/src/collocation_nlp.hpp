@@ -18,6 +18,7 @@
 #include "mo/runtime/optimize.hpp"
 #include "sparse_assembler.hpp"
 
+#include <Eigen/Sparse>
 #include <memory>
 #include <span>
 #include <stdexcept>
@@ -167,6 +168,11 @@ public:
   std::vector<double> outputs(std::span<const double> v, const PointRef& pt);
   /// Dense ∂y/∂z at the point (ny × (nx+nu+np)).
   Eigen::MatrixXd output_jacobian(std::span<const double> v, const PointRef& pt);
+  /// ∂y/∂z at the point with the model's structural nonzeros only: a
+  /// multi-phase model's dense one is (outputs of all phases) × (states,
+  /// inputs and parameters of all phases).
+  Eigen::SparseMatrix<double, Eigen::RowMajor> output_jacobian_sparse(std::span<const double> v,
+                                                                       const PointRef& pt);
   /// Adds scale·∇²_z(wᵀf or wᵀh) at the point, mapped to NLP variables.
   void add_model_hessian(Hessian which, std::span<const double> v, const PointRef& pt,
                          std::span<const double> weights, double scale, SparseAssembler& hess);

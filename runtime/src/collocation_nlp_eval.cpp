@@ -61,6 +61,29 @@ Eigen::MatrixXd CollocationNlp::output_jacobian(std::span<const double> v, const
   return j;
 }
 
+Eigen::SparseMatrix<double, Eigen::RowMajor> CollocationNlp::output_jacobian_sparse(std::span<const double> v,
+                                                                                     const PointRef& pt) {
+  const ModelInfo& i = info();
+  const int nx = int(i.states.size()), nu = int(i.inputs.size()), np = int(i.parameters.size());
+  PointValues pv = values_at(*this, v, pt);
+  Model& m = model(pt.experiment);
+  std::vector<Eigen::Triplet<double>> entries;
+  auto add = [&](Jacobian block, int offset) {
+    const Sparsity& sp = m.jacobian_sparsity(block);
+    std::vector<double> values(std::size_t(sp.nnz()));
+    m.jacobian_values(block, pt.time, pv.x, pv.u, pv.p, values);
+    for (int c = 0; c < sp.cols; ++c)
+      for (int e = sp.col_start[c]; e < sp.col_start[c + 1]; ++e)
+        entries.emplace_back(sp.row_index[e], offset + c, values[std::size_t(e)]);
+  };
+  add(Jacobian::h_x, 0);
+  add(Jacobian::h_u, nx);
+  add(Jacobian::h_p, nx + nu);
+  Eigen::SparseMatrix<double, Eigen::RowMajor> j(Eigen::Index(i.outputs.size()), nx + nu + np);
+  j.setFromTriplets(entries.begin(), entries.end());
+  return j;
+}
+
 void CollocationNlp::add_model_hessian(Hessian which, std::span<const double> v,
                                        const PointRef& pt, std::span<const double> weights,
                                        double scale, SparseAssembler& hess) {

@@ -58,8 +58,9 @@ double WeightedOutputs::value(CollocationNlp& nlp, std::span<const double> v) {
 void WeightedOutputs::gradient(CollocationNlp& nlp, std::span<const double> v,
                                std::span<double> g) {
   for (const OutputAtPoint& t : terms_) {
-    Eigen::MatrixXd j = nlp.output_jacobian(v, t.point);
-    add_mapped_gradient(nlp, t.point, t.weight * j.row(Eigen::Index(t.output)).transpose(), g);
+    const auto j = nlp.output_jacobian_sparse(v, t.point);
+    const Eigen::VectorXd row = t.weight * Eigen::VectorXd(j.row(Eigen::Index(t.output)).transpose());
+    add_mapped_gradient(nlp, t.point, row, g);
   }
 }
 
@@ -162,7 +163,7 @@ void OutputConstraints::jacobian(CollocationNlp& nlp, std::span<const double> v,
                                  SparseAssembler& jac) {
   for (const auto& rows : at_point_) {
     const PointRef& pt = rows_[rows.front()].point;
-    const Eigen::MatrixXd j = nlp.output_jacobian(v, pt);
+    const auto j = nlp.output_jacobian_sparse(v, pt);
     const VariableMap map = nlp.variable_map(pt);
     for (std::size_t r : rows) {
       const std::size_t k = rows_[r].output;
@@ -170,7 +171,7 @@ void OutputConstraints::jacobian(CollocationNlp& nlp, std::span<const double> v,
       if (deps == dependencies_.end()) deps = dependencies_.emplace(k, output_dependencies(nlp.model(0), k)).first;
       for (int z : deps->second)
         for (auto [var, coeff] : map[std::size_t(z)])
-          jac.add(row0 + int(r), var, coeff * j(Eigen::Index(k), z));
+          jac.add(row0 + int(r), var, coeff * j.coeff(Eigen::Index(k), z));
     }
   }
 }
