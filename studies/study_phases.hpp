@@ -126,7 +126,7 @@ std::optional<PhaseRefusal> check_event_constructs(const symbolic::OdeModel& ode
 /// `simulation_message` is set if the simulation itself failed.
 /// More time events that change the model in one simulation are refused:
 /// each is a phase of the stacked model.
-constexpr std::size_t kMaxTimedSwitches = 200;
+constexpr std::size_t kMaxTimedSwitches = 1000;
 struct ModeRecording {
   std::optional<ModeSequence> sequence;
   std::optional<PhaseRefusal> refusal;
