@@ -58,7 +58,7 @@ private:
 
 /// lo ≤ y_k(point) ≤ hi, one row per entry.
 ///
-/// Rows at one point share one evaluation of the outputs, of their dense
+/// Rows at one point share one evaluation of the outputs, of their (sparse)
 /// Jacobian and of the model's output Hessian (weighted by all their
 /// multipliers): a multi-phase model has many outputs, and each evaluation
 /// costs as much as all of them.
