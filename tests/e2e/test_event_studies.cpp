@@ -303,3 +303,23 @@ TEST_CASE("the sample period estimated through ticks that move with it", "[event
   CHECK(on_ticks.status == 1);
   CHECK(on_ticks.err.find("moves with an estimated parameter and lies on a sample time") != std::string::npos);
 }
+
+TEST_CASE("estimation through a value held at a state event: the crossing time free, the held value an unknown",
+          "[events][studies]") {
+  // The Fisher matrix below is from central differences of the exact
+  // solution (a = 1, c = 0.55; step 1e-7, σ = 0.01).
+  const fs::path dir = scratch("event_study_latched_slope");
+  const Run r = run_study("LatchedSlope.mop", dir / "out", dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  REQUIRE(s["events"]["mode_sequence"].size() == 1);
+  CHECK(s["events"]["mode_sequence"][0]["indicator"] == "x - c");
+  CHECK(double(s["parameters"][0]["estimate"]) == Approx(1.0).epsilon(1e-7));
+  CHECK(double(s["parameters"][1]["estimate"]) == Approx(0.55).epsilon(1e-7));
+  CHECK(double(s["events"]["switch_times"][0]) == Approx(0.55).epsilon(1e-7));
+  const double fisher[2][2] = {{141901.48439, 2131.2499758}, {2131.2499758, 8500.0000055}};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j) CHECK(double(s["fisher"][i][j]) == Approx(fisher[i][j]).epsilon(1e-6));
+}
