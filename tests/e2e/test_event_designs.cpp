@@ -91,30 +91,42 @@ Eigen::MatrixXd fisher_by_differences(const Replay& r, const std::vector<std::pa
   return s.transpose() * s / (r.sigma * r.sigma);
 }
 
+/// Runs the design study `file` into dir/out; it must end with status success.
+json run_design(const std::string& file, const fs::path& dir) {
+  const Run r = morun(quoted(kData + file) + " -o " + quoted((dir / "out").string()), dir);
+  INFO(r.err);
+  REQUIRE(r.status == 0);
+  json s = summary(dir / "out");
+  CHECK(s["status"] == "success");
+  return s;
+}
+
+/// The collocated and the re-simulated Fisher matrix of design summary `s`
+/// each within 1e-5 of the largest entry of `fd` (finite differences).
+void check_fisher_against(const json& s, const Eigen::MatrixXd& fd) {
+  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
+  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
+  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
+  const double scale = fd.cwiseAbs().maxCoeff();
+  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+}
+
 }  // namespace
 
 TEST_CASE("friction: the design's Fisher matrix equals the one of finite-difference re-simulations",
           "[events][studies][design]") {
   const fs::path dir = scratch("event_design_friction");
-  const Run r = morun(quoted(kData + "FrictionDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
-  INFO(r.err);
-  REQUIRE(r.status == 0);
-  const json s = summary(dir / "out");
-  CHECK(s["status"] == "success");
+  const json s = run_design("FrictionDesign.mop", dir);
   CHECK(s["events"]["mode_sequence_held"] == true);
   CHECK(s["events"]["mode_sequence"].size() == 1);
   CHECK(s["events"]["phases"] == 11);  // two modes, cut at the ten measurement times
-  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
-  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
   const Replay replay{"FrictionDesign.mop", "FrictionMass", "F=pwc:" + (dir / "out" / "designed_input.csv").string(),
                       2.0, 10, "x", 0.01};
   const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"Fc", 0.3}, {"d", 0.5}}, dir);
-  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
   // Stated tolerance: 1e-5 of the largest entry (the collocation's own error
   // with n_e = 40, n_cp = 3 is about 1e-6 of it here).
-  const double scale = fd.cwiseAbs().maxCoeff();
-  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
-  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  check_fisher_against(s, fd);
   // The sensitivity to Fc jumps at the reversal: without the jump the
   // collocated Fisher matrix would be far from the finite differences.
   CHECK(fd(0, 0) > 1.0);
@@ -126,22 +138,13 @@ TEST_CASE("a kick at a parameter time: the design's Fisher matrix for T equals f
   // (dτ/dT = 1 from the indicator time − T); the phase boundary is tied to T
   // by the switch constraint τ − T = 0.
   const fs::path dir = scratch("event_design_kick");
-  const Run r = morun(quoted(kData + "KickDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
-  INFO(r.err);
-  REQUIRE(r.status == 0);
-  const json s = summary(dir / "out");
-  CHECK(s["status"] == "success");
+  const json s = run_design("KickDesign.mop", dir);
   CHECK(s["events"]["mode_sequence_held"] == true);
   CHECK(double(s["events"]["switch_times"][0]) == Approx(0.7).margin(1e-9));
-  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
-  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
   const Replay replay{"KickDesign.mop", "KickForced", "F=pwc:" + (dir / "out" / "designed_input.csv").string(),
                       2.0, 10, "x", 0.01};
   const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"T", 0.7}, {"k", 4.0}}, dir);
-  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
-  const double scale = fd.cwiseAbs().maxCoeff();
-  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
-  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  check_fisher_against(s, fd);
   CHECK(fd(0, 0) > 100.0);  // T is well determined, through the jump only
 }
 
@@ -150,23 +153,14 @@ TEST_CASE("two balls bouncing at one instant: the design's Fisher matrix equals 
   // Two indicators cross together at the joint bounce: one switch, both
   // clauses, the sensitivity jump through both reinits with one dτ/dp.
   const fs::path dir = scratch("event_design_two_balls");
-  const Run r = morun(quoted(kData + "TwoBallsDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
-  INFO(r.err);
-  REQUIRE(r.status == 0);
-  const json s = summary(dir / "out");
-  CHECK(s["status"] == "success");
+  const json s = run_design("TwoBallsDesign.mop", dir);
   CHECK(s["events"]["mode_sequence_held"] == true);
   REQUIRE(s["events"]["mode_sequence"].size() == 1);
   CHECK(s["events"]["mode_sequence"][0]["crossing_with_it"].size() == 1);
-  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
-  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
   const Replay replay{"TwoBallsDesign.mop", "TwoBallsPushed", "u=pwc:" + (dir / "out" / "designed_input.csv").string(),
                       0.8, 8, "h2", 0.01};
   const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"g", 9.81}, {"e2", 0.6}}, dir);
-  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
-  const double scale = fd.cwiseAbs().maxCoeff();
-  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
-  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  check_fisher_against(s, fd);
 }
 
 TEST_CASE("ball: Monte Carlo through the bounces, every run's interval covers the truth", "[events][studies]") {
@@ -236,23 +230,14 @@ TEST_CASE("sample() ticks that kick the oscillator: the design's Fisher matrix e
   // Three ticks inside the horizon are timed switches: fixed times, the
   // sensitivity states jump by the reinit's tangent only.
   const fs::path dir = scratch("event_design_sampled_kick");
-  const Run r = morun(quoted(kData + "SampledKickDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
-  INFO(r.err);
-  REQUIRE(r.status == 0);
-  const json s = summary(dir / "out");
-  CHECK(s["status"] == "success");
+  const json s = run_design("SampledKickDesign.mop", dir);
   REQUIRE(s["events"]["mode_sequence"].size() == 3);
   CHECK(s["events"]["mode_sequence"][1]["time_event"] == true);
   CHECK(double(s["events"]["mode_sequence"][1]["time"]) == Approx(0.35 + 0.7).margin(1e-15));
-  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
-  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
   const Replay replay{"SampledKickDesign.mop", "SampledKick", "F=pwc:" + (dir / "out" / "designed_input.csv").string(),
                       2.0, 10, "x", 0.01};
   const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"k", 4.0}, {"J", 0.5}}, dir);
-  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
-  const double scale = fd.cwiseAbs().maxCoeff();
-  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
-  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  check_fisher_against(s, fd);
 }
 
 TEST_CASE("a set point designed through a sampled controller: the Fisher matrix equals finite differences",
@@ -261,21 +246,12 @@ TEST_CASE("a set point designed through a sampled controller: the Fisher matrix 
   // phase, set at each tick from the tangent of kp·(r − x); the samples fall
   // on the ticks.
   const fs::path dir = scratch("event_design_sampled_loop");
-  const Run r = morun(quoted(kData + "SampledDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
-  INFO(r.err);
-  REQUIRE(r.status == 0);
-  const json s = summary(dir / "out");
-  CHECK(s["status"] == "success");
+  const json s = run_design("SampledDesign.mop", dir);
   CHECK(s["events"]["mode_sequence"].size() == 9);
-  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
-  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
   const Replay replay{"SampledDesign.mop", "SampledPlant", "r=pwc:" + (dir / "out" / "designed_input.csv").string(),
                       2.0, 10, "x", 0.01};
   const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"a", 1.5}, {"b", 2.0}}, dir);
-  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
-  const double scale = fd.cwiseAbs().maxCoeff();
-  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
-  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  check_fisher_against(s, fd);
 }
 
 TEST_CASE("Monte Carlo through a sampled controller: the Cramer-Rao bound through the held control",
@@ -305,20 +281,11 @@ TEST_CASE("a kick period designed through ticks that move with it: the Fisher ma
   // Tick n of sample(0.35, P) moves by dτ/dP = n: the sensitivity states jump
   // with that η at each kick (δstart + n·δinterval of the tick).
   const fs::path dir = scratch("event_design_sampled_period");
-  const Run r = morun(quoted(kData + "SampledPeriodDesign.mop") + " -o " + quoted((dir / "out").string()), dir);
-  INFO(r.err);
-  REQUIRE(r.status == 0);
-  const json s = summary(dir / "out");
-  CHECK(s["status"] == "success");
+  const json s = run_design("SampledPeriodDesign.mop", dir);
   REQUIRE(s["events"]["mode_sequence"].size() == 3);
-  const Eigen::MatrixXd coll = matrix(s["design"]["fisher_collocation"]);
-  const Eigen::MatrixXd resim = matrix(s["design"]["fisher_resimulated"]);
   const Replay replay{"SampledPeriodDesign.mop", "PeriodicKick", "F=pwc:" + (dir / "out" / "designed_input.csv").string(),
                       2.0, 10, "x", 0.01};
   const Eigen::MatrixXd fd = fisher_by_differences(replay, {{"P", 0.7}, {"J", 0.5}}, dir);
-  INFO("collocation\n" << coll << "\nre-simulated\n" << resim << "\nfinite differences\n" << fd);
-  const double scale = fd.cwiseAbs().maxCoeff();
-  CHECK((coll - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
-  CHECK((resim - fd).cwiseAbs().maxCoeff() < 1e-5 * scale);
+  check_fisher_against(s, fd);
   CHECK(fd(0, 0) > 1000.0);  // P is determined through the moving kicks only
 }

@@ -44,6 +44,13 @@ double ball_height(double g, double e, double t) {
   return e * std::sqrt(2.0 * g) * dt - 0.5 * g * dt * dt;
 }
 
+/// The estimation's Fisher matrix in summary `s` equals `expected` to 1e-6 (relative).
+void check_fisher(const json& s, const std::vector<std::vector<double>>& expected) {
+  for (std::size_t i = 0; i < expected.size(); ++i)
+    for (std::size_t j = 0; j < expected[i].size(); ++j)
+      CHECK(double(s["fisher"][i][j]) == Approx(expected[i][j]).epsilon(1e-6));
+}
+
 Run run_study(const std::string& file, const fs::path& out, const fs::path& dir) {
   return morun(quoted(kData + file) + " -o " + quoted(out.string()), dir);
 }
@@ -237,9 +244,7 @@ TEST_CASE("estimation through a sampled controller: a held value per phase and s
   CHECK(s["events"]["mode_sequence"][0]["time_event"] == true);
   CHECK(double(s["parameters"][0]["estimate"]) == Approx(1.5).epsilon(1e-7));
   CHECK(double(s["parameters"][1]["estimate"]) == Approx(2.0).epsilon(1e-7));
-  const double fisher[2][2] = {{3644.7348878, -3423.6254360}, {-3423.6254360, 3766.8351925}};
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j) CHECK(double(s["fisher"][i][j]) == Approx(fisher[i][j]).epsilon(1e-6));
+  check_fisher(s, {{3644.7348878, -3423.6254360}, {-3423.6254360, 3766.8351925}});
 }
 
 TEST_CASE("optimal control through a sampled controller reaches the least-squares optimum of the held values",
@@ -277,9 +282,7 @@ TEST_CASE("estimation through the MSL's ZeroOrderHold: held at initialisation an
   CHECK(double(s["parameters"][0]["estimate"]) == Approx(2.0).epsilon(1e-7));  // k
   CHECK(double(s["parameters"][1]["estimate"]) == Approx(0.4).epsilon(1e-7));  // plant.T
   // Central differences of the exact solution (msl_sampled_loop.csv), σ = 0.01.
-  const double fisher[2][2] = {{4109.8693735, -9627.1156945}, {-9627.1156945, 38256.201990}};
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j) CHECK(double(s["fisher"][i][j]) == Approx(fisher[i][j]).epsilon(1e-6));
+  check_fisher(s, {{4109.8693735, -9627.1156945}, {-9627.1156945, 38256.201990}});
 }
 
 TEST_CASE("the sample period estimated through ticks that move with it", "[events][studies]") {
@@ -295,9 +298,7 @@ TEST_CASE("the sample period estimated through ticks that move with it", "[event
   CHECK(double(s["parameters"][0]["estimate"]) == Approx(1.5).epsilon(1e-7));
   CHECK(double(s["parameters"][1]["estimate"]) == Approx(0.2).epsilon(1e-7));
   CHECK(double(s["events"]["switch_times"][8]) == Approx(1.8).epsilon(1e-7));
-  const double fisher[2][2] = {{3500.73509, -1378.84962}, {-1378.84962, 2807.81326}};
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j) CHECK(double(s["fisher"][i][j]) == Approx(fisher[i][j]).epsilon(1e-6));
+  check_fisher(s, {{3500.73509, -1378.84962}, {-1378.84962, 2807.81326}});
   const Run on_ticks = run_study("SampledPeriodOnTicks.mop", dir / "on_ticks", dir);
   INFO(on_ticks.err);
   CHECK(on_ticks.status == 1);
@@ -319,7 +320,5 @@ TEST_CASE("estimation through a value held at a state event: the crossing time f
   CHECK(double(s["parameters"][0]["estimate"]) == Approx(1.0).epsilon(1e-7));
   CHECK(double(s["parameters"][1]["estimate"]) == Approx(0.55).epsilon(1e-7));
   CHECK(double(s["events"]["switch_times"][0]) == Approx(0.55).epsilon(1e-7));
-  const double fisher[2][2] = {{141901.48439, 2131.2499758}, {2131.2499758, 8500.0000055}};
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j) CHECK(double(s["fisher"][i][j]) == Approx(fisher[i][j]).epsilon(1e-6));
+  check_fisher(s, {{141901.48439, 2131.2499758}, {2131.2499758, 8500.0000055}});
 }
