@@ -18,6 +18,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <functional>
 #include <optional>
 #include <string>
@@ -88,6 +89,8 @@ struct RelationMap {
   /// of a state, a latched input). Each phase has it as an unknown, tied to
   /// the value of the clause that sets it at a boundary (docs/events.md).
   std::vector<bool> held;
+  /// True if some discrete variable is held.
+  [[nodiscard]] bool holds_values() const { return std::find(held.begin(), held.end(), true) != held.end(); }
 };
 
 /// The relations of `ode` matched to its zero crossings (adds differences to its arena).

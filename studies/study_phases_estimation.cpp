@@ -379,7 +379,7 @@ int estimation_with_events(frontend::flat::Model& flat, const StudyCli& cli, Stu
   // CVODES does not carry sensitivities through held values: the statistics
   // then come from the model compiled with sensitivity states.
   BuiltModel with_states;
-  if (std::find(rel.held.begin(), rel.held.end(), true) != rel.held.end()) {
+  if (rel.holds_values()) {
     std::vector<std::string> names;
     for (const auto& fp : e.parameters) names.push_back(info.parameters[fp.parameter].name);
     symbolic::OdeModel sens = relower(names);
@@ -420,7 +420,7 @@ int monte_carlo_with_events(frontend::flat::Model& flat, const StudyCli& cli, St
     throw UsageError("monte_carlo on a model with events takes a model without inputs (docs/events.md)");
   // The model has sensitivity states for the free parameters: with held
   // values (which CVODES does not carry) the statistics take those.
-  const bool held = std::find(rel.held.begin(), rel.held.end(), true) != rel.held.end();
+  const bool held = rel.holds_values();
   StudyCli quiet = cli;
   quiet.quiet = true;
   quiet.run = nullptr;

@@ -616,9 +616,7 @@ private:
     std::vector<Expr> dx(nx, zero), dp(np, zero);
     std::copy(f_minus.begin(), f_minus.end(), dx.begin());
     const Expr gdot = sw.timed ? one : tangent_copy(k, before, before, dx, dp, one, {g_tangent}).front();
-    std::map<std::size_t, std::vector<std::pair<std::size_t, std::size_t>>> by_parameter;  // j → (i, state)
-    for (std::size_t s = nb; s < nx; ++s)
-      if (const auto& of = b_.states[s].sensitivity) by_parameter[of->parameter].push_back({of->state, s});
+    const auto by_parameter = sensitivity_states();  // j → (i, state)
     std::vector<Expr> reinit_roots;
     std::vector<std::size_t> reinit_state;
     for (std::size_t w : sw.whens)
