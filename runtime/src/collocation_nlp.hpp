@@ -166,18 +166,13 @@ public:
   [[nodiscard]] VariableMap variable_map(const PointRef& pt) const;
   /// Outputs y at the point.
   std::vector<double> outputs(std::span<const double> v, const PointRef& pt);
-  /// Dense ∂y/∂z at the point (ny × (nx+nu+np)).
-  Eigen::MatrixXd output_jacobian(std::span<const double> v, const PointRef& pt);
-  /// ∂y/∂z at the point with the model's structural nonzeros only: a
-  /// multi-phase model's dense one is (outputs of all phases) × (states,
-  /// inputs and parameters of all phases).
-  Eigen::SparseMatrix<double, Eigen::RowMajor> output_jacobian_sparse(std::span<const double> v,
-                                                                       const PointRef& pt);
+  /// ∂y/∂z at the point (ny × (nx+nu+np)) with the model's structural
+  /// nonzeros only: a multi-phase model's dense one would be (outputs of all
+  /// phases) × (states, inputs and parameters of all phases).
+  Eigen::SparseMatrix<double, Eigen::RowMajor> output_jacobian(std::span<const double> v, const PointRef& pt);
   /// Adds scale·∇²_z(wᵀf or wᵀh) at the point, mapped to NLP variables.
   void add_model_hessian(Hessian which, std::span<const double> v, const PointRef& pt,
                          std::span<const double> weights, double scale, SparseAssembler& hess);
-  /// Dense Jacobian block of the model at the point.
-  Eigen::MatrixXd model_jacobian(Jacobian block, std::span<const double> v, const PointRef& pt);
 
   // --- terms -------------------------------------------------------------------
   /// Adds a term to the objective (summed) / a block of constraint rows (appended).

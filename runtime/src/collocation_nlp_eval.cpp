@@ -24,13 +24,6 @@ PointValues values_at(const CollocationNlp& nlp, std::span<const double> v, cons
   return pv;
 }
 
-Eigen::MatrixXd to_dense(const Sparsity& sp, const std::vector<double>& values) {
-  Eigen::MatrixXd m = Eigen::MatrixXd::Zero(sp.rows, sp.cols);
-  for (int c = 0; c < sp.cols; ++c)
-    for (int k = sp.col_start[c]; k < sp.col_start[c + 1]; ++k) m(sp.row_index[k], c) = values[k];
-  return m;
-}
-
 }  // namespace
 
 std::vector<double> CollocationNlp::outputs(std::span<const double> v, const PointRef& pt) {
@@ -40,29 +33,8 @@ std::vector<double> CollocationNlp::outputs(std::span<const double> v, const Poi
   return y;
 }
 
-Eigen::MatrixXd CollocationNlp::model_jacobian(Jacobian block, std::span<const double> v,
-                                               const PointRef& pt) {
-  PointValues pv = values_at(*this, v, pt);
-  Model& m = model(pt.experiment);
-  const Sparsity& sp = m.jacobian_sparsity(block);
-  std::vector<double> values(std::size_t(sp.nnz()));
-  m.jacobian_values(block, pt.time, pv.x, pv.u, pv.p, values);
-  return to_dense(sp, values);
-}
-
-Eigen::MatrixXd CollocationNlp::output_jacobian(std::span<const double> v, const PointRef& pt) {
-  const ModelInfo& i = info();
-  const auto nx = Eigen::Index(i.states.size()), nu = Eigen::Index(i.inputs.size()),
-             np = Eigen::Index(i.parameters.size());
-  Eigen::MatrixXd j(Eigen::Index(i.outputs.size()), nx + nu + np);
-  j.leftCols(nx) = model_jacobian(Jacobian::h_x, v, pt);
-  j.middleCols(nx, nu) = model_jacobian(Jacobian::h_u, v, pt);
-  j.rightCols(np) = model_jacobian(Jacobian::h_p, v, pt);
-  return j;
-}
-
-Eigen::SparseMatrix<double, Eigen::RowMajor> CollocationNlp::output_jacobian_sparse(std::span<const double> v,
-                                                                                     const PointRef& pt) {
+Eigen::SparseMatrix<double, Eigen::RowMajor> CollocationNlp::output_jacobian(std::span<const double> v,
+                                                                              const PointRef& pt) {
   const ModelInfo& i = info();
   const int nx = int(i.states.size()), nu = int(i.inputs.size()), np = int(i.parameters.size());
   PointValues pv = values_at(*this, v, pt);

@@ -35,10 +35,7 @@ LiftedFisher::LiftedFisher(CollocationNlp& nlp, const MeasurementDesign& m,
     : samples_(nlp, m, std::move(sensitivity_outputs)), n_(samples_.size()) {
   std::vector<std::pair<int, int>> coupled;
   for (int a = 0; a < n_; ++a)
-    for (int b = 0; b <= a; ++b) {
-      coupled.emplace_back(a, b);
-      row_columns_.push_back(samples_.columns(a, b));
-    }
+    for (int b = 0; b <= a; ++b) coupled.emplace_back(a, b);
   samples_.set_pattern(coupled);
   Eigen::MatrixXd f0 = trajectory_fisher(nlp, nlp.initial_guess());
   magnitude_ = std::max(1.0, f0.cwiseAbs().maxCoeff());
@@ -102,13 +99,14 @@ void LiftedFisher::values(CollocationNlp& nlp, std::span<const double> v, std::s
 void LiftedFisher::jacobian(CollocationNlp& nlp, std::span<const double> v, int row0,
                             SparseAssembler& jac) {
   for (int k = 0; k < rows(); ++k) jac.add(row0 + k, f_ + k, 1.0);
-  samples_.each_sample(nlp, v, [&](const PointRef& pt, const Eigen::MatrixXd& s, const Eigen::MatrixXd& j) {
+  samples_.each_sample(nlp, v, [&](const PointRef& pt, const Eigen::MatrixXd& s,
+                                   const FisherSamples::LocalJacobians& j) {
     VariableMap map = nlp.variable_map(pt);
     for (int a = 0; a < n_; ++a)
       for (int b = 0; b <= a; ++b) {  // ∂/∂z of −Σ_r w_r s_ra s_rb
-        const int packed = a * (a + 1) / 2 + b, row = row0 + packed;
-        const std::vector<int>& cols = row_columns_[std::size_t(packed)];
-        Eigen::VectorXd d = samples_.product_gradient(s, j, a, b, cols);
+        const int row = row0 + a * (a + 1) / 2 + b;
+        const std::vector<int>& cols = samples_.columns(a, b);
+        Eigen::VectorXd d = samples_.product_gradient(s, j, a, b);
         for (std::size_t c = 0; c < cols.size(); ++c)
           for (auto [var, coeff] : map[std::size_t(cols[c])]) jac.add(row, var, -coeff * d[Eigen::Index(c)]);
       }

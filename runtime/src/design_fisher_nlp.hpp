@@ -55,9 +55,6 @@ public:
 
 private:
   FisherSamples samples_;
-  // Per row (a, b), the z-indices that s_ra or s_rb depend on for some r: the
-  // row's Jacobian pattern, without the other parameters' columns.
-  std::vector<std::vector<int>> row_columns_;
   std::vector<double> nominal_;                  // per F variable (packed)
   int n_ = 0, f_ = 0;
   double magnitude_ = 1.0;

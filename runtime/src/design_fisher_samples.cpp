@@ -26,6 +26,21 @@ std::optional<std::vector<std::vector<std::size_t>>> sensitivity_outputs(
   return out;
 }
 
+namespace {
+
+/// Where z is or would be in `sorted`.
+int position(const std::vector<int>& sorted, int z) {
+  return int(std::lower_bound(sorted.begin(), sorted.end(), z) - sorted.begin());
+}
+
+/// The position of z in `sorted`, −1 if absent.
+int find(const std::vector<int>& sorted, int z) {
+  const int k = position(sorted, z);
+  return k < int(sorted.size()) && sorted[std::size_t(k)] == z ? k : -1;
+}
+
+}  // namespace
+
 FisherSamples::FisherSamples(const CollocationNlp& nlp, const MeasurementDesign& m,
                              std::vector<std::vector<std::size_t>> sensitivity_outputs)
     : sens_(std::move(sensitivity_outputs)), num_outputs_(nlp.info().outputs.size()) {
@@ -41,40 +56,56 @@ FisherSamples::FisherSamples(const CollocationNlp& nlp, const MeasurementDesign&
     if (t < ex.t0 || t > ex.tf) throw ProblemError("measurement time outside [t0, tf]");
     points_.push_back(nlp.point_at(0, t));
   }
+  const std::vector<std::vector<int>> depends = all_output_dependencies(nlp.model(0));
   std::set<int> deps;
-  for (const auto& row : sens_)
-    for (std::size_t out : row)
-      for (int z : output_dependencies(nlp.model(0), out)) deps.insert(z);
+  for (const auto& row : sens_) {
+    std::set<int> mine;
+    for (std::size_t out : row) mine.insert(depends[out].begin(), depends[out].end());
+    local_.emplace_back(mine.begin(), mine.end());
+    deps.insert(mine.begin(), mine.end());
+  }
   deps_.assign(deps.begin(), deps.end());
-  auto position = [&](int z) {
-    return int(std::lower_bound(deps_.begin(), deps_.end(), z) - deps_.begin());
-  };
   of_.resize(sens_.size());
   for (std::size_t r = 0; r < sens_.size(); ++r)
     for (std::size_t out : sens_[r]) {
       of_[r].emplace_back();
-      for (int z : output_dependencies(nlp.model(0), out)) of_[r].back().push_back(position(z));
+      for (int z : depends[out]) of_[r].back().push_back(position(local_[r], z));
+    }
+  for (int a = 0; a < n_; ++a)
+    for (int b = 0; b <= a; ++b) {
+      std::set<int> cols;
+      for (std::size_t r = 0; r < sens_.size(); ++r)
+        for (int c : {a, b})
+          for (int i : of_[r][std::size_t(c)]) cols.insert(local_[r][std::size_t(i)]);
+      columns_.emplace_back(cols.begin(), cols.end());
+      in_columns_.emplace_back();
+      for (const std::vector<int>& local : local_) {
+        in_columns_.back().emplace_back();
+        for (int z : local) in_columns_.back().back().push_back(find(columns_.back(), z));
+      }
     }
 }
 
-std::vector<int> FisherSamples::columns(int a, int b) const {
-  std::set<int> cols;
-  for (const auto& r : of_) {
-    cols.insert(r[std::size_t(a)].begin(), r[std::size_t(a)].end());
-    cols.insert(r[std::size_t(b)].begin(), r[std::size_t(b)].end());
-  }
-  std::vector<int> out;
-  for (int c : cols) out.push_back(deps_[std::size_t(c)]);
-  return out;
-}
-
 void FisherSamples::set_pattern(const std::vector<std::pair<int, int>>& coupled) {
-  std::set<std::pair<int, int>> pairs;
-  for (auto [a, b] : coupled)
-    for (const auto& r : of_)
-      for (int c : r[std::size_t(a)])
-        for (int d : r[std::size_t(b)]) pairs.insert({std::max(c, d), std::min(c, d)});
+  std::vector<std::set<std::pair<int, int>>> mine(sens_.size());  // positions (c ≥ d) in local_[r]
+  std::set<std::pair<int, int>> pairs;                            // positions in deps_
+  auto global = [&](std::size_t r, std::pair<int, int> cd) {
+    return std::pair{position(deps_, local_[r][std::size_t(cd.first)]),
+                     position(deps_, local_[r][std::size_t(cd.second)])};
+  };
+  for (std::size_t r = 0; r < sens_.size(); ++r) {
+    for (auto [a, b] : coupled)
+      for (int c : of_[r][std::size_t(a)])
+        for (int d : of_[r][std::size_t(b)]) mine[r].insert({std::max(c, d), std::min(c, d)});
+    for (const auto& cd : mine[r]) pairs.insert(global(r, cd));
+  }
   gn_pairs_.assign(pairs.begin(), pairs.end());
+  gn_local_.assign(sens_.size(), {});
+  for (std::size_t r = 0; r < sens_.size(); ++r)
+    for (const auto& cd : mine[r]) {
+      const auto k = std::lower_bound(gn_pairs_.begin(), gn_pairs_.end(), global(r, cd)) - gn_pairs_.begin();
+      gn_local_[r].push_back({std::size_t(k), cd.first, cd.second});
+    }
 }
 
 Eigen::MatrixXd FisherSamples::sensitivities(CollocationNlp& nlp, std::span<const double> v,
@@ -86,12 +117,19 @@ Eigen::MatrixXd FisherSamples::sensitivities(CollocationNlp& nlp, std::span<cons
   return s;
 }
 
-Eigen::MatrixXd FisherSamples::sensitivity_jacobian(const Eigen::MatrixXd& j, std::size_t r) const {
-  const auto nd = Eigen::Index(deps_.size());
-  Eigen::MatrixXd jr(n_, nd);
-  for (int a = 0; a < n_; ++a)
-    for (Eigen::Index c = 0; c < nd; ++c) jr(a, c) = j(Eigen::Index(sens_[r][std::size_t(a)]), deps_[std::size_t(c)]);
-  return jr;
+FisherSamples::LocalJacobians FisherSamples::local_jacobians(CollocationNlp& nlp, std::span<const double> v,
+                                                             const PointRef& pt) const {
+  using RowMajor = Eigen::SparseMatrix<double, Eigen::RowMajor>;
+  const RowMajor j = nlp.output_jacobian(v, pt);
+  LocalJacobians out;
+  for (std::size_t r = 0; r < sens_.size(); ++r) {
+    Eigen::MatrixXd jr = Eigen::MatrixXd::Zero(n_, Eigen::Index(local_[r].size()));
+    for (int a = 0; a < n_; ++a)
+      for (RowMajor::InnerIterator it(j, Eigen::Index(sens_[r][std::size_t(a)])); it; ++it)
+        if (const int k = find(local_[r], int(it.col())); k >= 0) jr(a, k) = it.value();
+    out.push_back(std::move(jr));
+  }
+  return out;
 }
 
 Eigen::MatrixXd FisherSamples::fisher(CollocationNlp& nlp, std::span<const double> v) const {
@@ -104,38 +142,42 @@ Eigen::MatrixXd FisherSamples::fisher(CollocationNlp& nlp, std::span<const doubl
   return f;
 }
 
-Eigen::VectorXd FisherSamples::product_gradient(const Eigen::MatrixXd& s, const Eigen::MatrixXd& j,
-                                                int a, int b, const std::vector<int>& cols) const {
-  Eigen::VectorXd d = Eigen::VectorXd::Zero(Eigen::Index(cols.size()));
-  for (std::size_t k = 0; k < cols.size(); ++k)
-    for (std::size_t r = 0; r < sens_.size(); ++r)
-      d[Eigen::Index(k)] += weight_[r] * (s(Eigen::Index(r), a) * j(Eigen::Index(sens_[r][std::size_t(b)]), cols[k]) +
-                                          s(Eigen::Index(r), b) * j(Eigen::Index(sens_[r][std::size_t(a)]), cols[k]));
+Eigen::VectorXd FisherSamples::product_gradient(const Eigen::MatrixXd& s, const LocalJacobians& j, int a,
+                                                int b) const {
+  const std::vector<std::vector<int>>& in = in_columns_[packed(a, b)];
+  Eigen::VectorXd d = Eigen::VectorXd::Zero(Eigen::Index(columns(a, b).size()));
+  for (std::size_t r = 0; r < sens_.size(); ++r)
+    for (std::size_t i = 0; i < in[r].size(); ++i)
+      if (in[r][i] >= 0)
+        d[in[r][i]] += weight_[r] * (s(Eigen::Index(r), a) * j[r](b, Eigen::Index(i)) +
+                                     s(Eigen::Index(r), b) * j[r](a, Eigen::Index(i)));
   return d;
 }
 
 void FisherSamples::add_hessian(CollocationNlp& nlp, std::span<const double> v, const Eigen::MatrixXd& g,
                                 double scale, SparseAssembler& hess) const {
-  const auto nd = Eigen::Index(deps_.size());
   std::vector<double> mu(num_outputs_);
-  each_sample(nlp, v, [&](const PointRef& pt, const Eigen::MatrixXd& s, const Eigen::MatrixXd& j) {
-    Eigen::MatrixXd gauss_newton = Eigen::MatrixXd::Zero(nd, nd);
+  each_sample(nlp, v, [&](const PointRef& pt, const Eigen::MatrixXd& s, const LocalJacobians& j) {
+    // The Gauss–Newton term at (c, d) and at (d, c) of each pair of gn_pairs_.
+    std::vector<double> lower(gn_pairs_.size(), 0.0), upper(gn_pairs_.size(), 0.0);
     std::fill(mu.begin(), mu.end(), 0.0);
     for (std::size_t r = 0; r < sens_.size(); ++r) {
-      Eigen::MatrixXd jr = sensitivity_jacobian(j, r);
-      gauss_newton += 2.0 * scale * weight_[r] * jr.transpose() * g * jr;
+      const Eigen::MatrixXd gauss_newton = 2.0 * scale * weight_[r] * j[r].transpose() * g * j[r];
+      for (const LocalPair& q : gn_local_[r])
+        lower[q.pair] += gauss_newton(q.c, q.d), upper[q.pair] += gauss_newton(q.d, q.c);
       Eigen::VectorXd m = g * s.row(Eigen::Index(r)).transpose();
       for (int a = 0; a < n_; ++a) mu[sens_[r][std::size_t(a)]] += 2.0 * scale * weight_[r] * m[a];
     }
     VariableMap map = nlp.variable_map(pt);
-    auto add = [&](int a, int b) {  // both orders of the symmetric term, lower triangle
+    auto add = [&](int a, int b, double value) {  // lower triangle
       for (auto [va, ca] : map[std::size_t(deps_[std::size_t(a)])])
         for (auto [vb, cb] : map[std::size_t(deps_[std::size_t(b)])])
-          if (va >= vb) hess.add(va, vb, gauss_newton(a, b) * ca * cb);
+          if (va >= vb) hess.add(va, vb, value * ca * cb);
     };
-    for (auto [a, b] : gn_pairs_) {
-      add(a, b);
-      if (a != b) add(b, a);
+    for (std::size_t k = 0; k < gn_pairs_.size(); ++k) {
+      const auto [a, b] = gn_pairs_[k];
+      add(a, b, lower[k]);
+      if (a != b) add(b, a, upper[k]);
     }
     nlp.add_model_hessian(Hessian::h, v, pt, mu, 1.0, hess);
   });

@@ -23,20 +23,20 @@ void add_dense_hessian(const CollocationNlp& nlp, const PointRef& pt, const std:
 
 }  // namespace
 
-std::vector<int> output_dependencies(const Model& model, std::size_t k) {
+std::vector<std::vector<int>> all_output_dependencies(const Model& model) {
   const ModelInfo& info = model.info();
   const int nx = int(info.states.size()), nu = int(info.inputs.size());
-  std::set<int> cols;
+  std::vector<std::vector<int>> deps(info.outputs.size());
   auto scan = [&](Jacobian block, int offset) {
     const Sparsity& sp = model.jacobian_sparsity(block);
     for (int c = 0; c < sp.cols; ++c)
       for (int e = sp.col_start[c]; e < sp.col_start[c + 1]; ++e)
-        if (sp.row_index[e] == int(k)) cols.insert(offset + c);
+        deps[std::size_t(sp.row_index[e])].push_back(offset + c);
   };
-  scan(Jacobian::h_x, 0);
+  scan(Jacobian::h_x, 0);  // columns ascending: x, then u, then p
   scan(Jacobian::h_u, nx);
   scan(Jacobian::h_p, nx + nu);
-  return {cols.begin(), cols.end()};
+  return deps;
 }
 
 void add_mapped_gradient(const CollocationNlp& nlp, const PointRef& pt,
@@ -58,7 +58,7 @@ double WeightedOutputs::value(CollocationNlp& nlp, std::span<const double> v) {
 void WeightedOutputs::gradient(CollocationNlp& nlp, std::span<const double> v,
                                std::span<double> g) {
   for (const OutputAtPoint& t : terms_) {
-    const auto j = nlp.output_jacobian_sparse(v, t.point);
+    const auto j = nlp.output_jacobian(v, t.point);
     const Eigen::VectorXd row = t.weight * Eigen::VectorXd(j.row(Eigen::Index(t.output)).transpose());
     add_mapped_gradient(nlp, t.point, row, g);
   }
@@ -93,12 +93,12 @@ double LeastSquares::value(CollocationNlp& nlp, std::span<const double> v) {
 void LeastSquares::gradient(CollocationNlp& nlp, std::span<const double> v, std::span<double> g) {
   for (const MeasuredSample& s : samples_) {
     std::vector<double> y = nlp.outputs(v, s.point);
-    Eigen::MatrixXd j = nlp.output_jacobian(v, s.point);
+    const auto j = nlp.output_jacobian(v, s.point);
     Eigen::VectorXd grad_z = Eigen::VectorXd::Zero(j.cols());
     for (std::size_t k = 0; k < y.size(); ++k)
       if (!std::isnan(s.measured[k]))
         grad_z += 2.0 * (y[k] - s.measured[k]) / std::pow(s.sigma[k], 2) *
-                  j.row(Eigen::Index(k)).transpose();
+                  Eigen::VectorXd(j.row(Eigen::Index(k)).transpose());
     add_mapped_gradient(nlp, s.point, grad_z, g);
   }
 }
@@ -110,11 +110,10 @@ bool LeastSquares::has_hessian(const CollocationNlp& nlp) const {
 void LeastSquares::hessian(CollocationNlp& nlp, std::span<const double> v, double factor,
                            SparseAssembler& hess) {
   const std::size_t ny = nlp.info().outputs.size();
-  std::vector<std::vector<int>> deps(ny);
-  for (std::size_t k = 0; k < ny; ++k) deps[k] = output_dependencies(nlp.model(0), k);
+  const std::vector<std::vector<int>> deps = all_output_dependencies(nlp.model(0));
   for (const MeasuredSample& s : samples_) {
     std::vector<double> y = nlp.outputs(v, s.point);
-    Eigen::MatrixXd j = nlp.output_jacobian(v, s.point);
+    const auto j = nlp.output_jacobian(v, s.point);
     std::set<int> col_set;
     std::vector<double> mu(ny, 0.0);
     for (std::size_t k = 0; k < ny; ++k)
@@ -127,7 +126,7 @@ void LeastSquares::hessian(CollocationNlp& nlp, std::span<const double> v, doubl
     for (std::size_t k = 0; k < ny; ++k) {
       if (std::isnan(s.measured[k])) continue;
       Eigen::VectorXd row(Eigen::Index(cols.size()));
-      for (std::size_t a = 0; a < cols.size(); ++a) row[Eigen::Index(a)] = j(Eigen::Index(k), cols[a]);
+      for (std::size_t a = 0; a < cols.size(); ++a) row[Eigen::Index(a)] = j.coeff(Eigen::Index(k), cols[a]);
       gn += 2.0 / std::pow(s.sigma[k], 2) * row * row.transpose();
     }
     add_dense_hessian(nlp, s.point, cols, gn, factor, hess);
@@ -163,13 +162,12 @@ void OutputConstraints::jacobian(CollocationNlp& nlp, std::span<const double> v,
                                  SparseAssembler& jac) {
   for (const auto& rows : at_point_) {
     const PointRef& pt = rows_[rows.front()].point;
-    const auto j = nlp.output_jacobian_sparse(v, pt);
+    const auto j = nlp.output_jacobian(v, pt);
     const VariableMap map = nlp.variable_map(pt);
     for (std::size_t r : rows) {
       const std::size_t k = rows_[r].output;
-      auto deps = dependencies_.find(k);
-      if (deps == dependencies_.end()) deps = dependencies_.emplace(k, output_dependencies(nlp.model(0), k)).first;
-      for (int z : deps->second)
+      if (dependencies_.empty()) dependencies_ = all_output_dependencies(nlp.model(0));
+      for (int z : dependencies_[k])
         for (auto [var, coeff] : map[std::size_t(z)])
           jac.add(row0 + int(r), var, coeff * j.coeff(Eigen::Index(k), z));
     }

@@ -77,11 +77,12 @@ public:
 private:
   std::vector<OutputAtPoint> rows_;
   std::vector<std::vector<std::size_t>> at_point_;  ///< rows_ indices per distinct point
-  std::map<std::size_t, std::vector<int>> dependencies_;  ///< per output: output_dependencies()
+  std::vector<std::vector<int>> dependencies_;  ///< all_output_dependencies(), once needed
 };
 
-/// z-indices (x, u, p) on which output k depends structurally.
-std::vector<int> output_dependencies(const Model& model, std::size_t k);
+/// Per output k, the z-indices (x, u, p) on which it depends structurally,
+/// ascending (one scan of the output Jacobians' patterns).
+std::vector<std::vector<int>> all_output_dependencies(const Model& model);
 /// Adds Σ_z grad_z·∂z/∂v to the NLP gradient through the point's variable map.
 void add_mapped_gradient(const CollocationNlp& nlp, const PointRef& pt,
                          const Eigen::VectorXd& grad_z, std::span<double> g);

@@ -117,3 +117,26 @@ TEST_CASE("design: Ipopt runs without MUMPS's scaling unless ipopt_options asks 
     CHECK(s["design"]["information_resimulated"].get<double>() == Approx(27.4044).epsilon(1e-4));
   }
 }
+
+TEST_CASE("design: a multi-phase design's exact Hessian passes Ipopt's derivative checker",
+          "[design_hessians][events]") {
+  // One point carries every sample of every phase as an output, each with its
+  // own phase's columns (design_fisher_samples.hpp): 4 phases, 2 parameters.
+  const fs::path dir = scratch("design_hessian_check_phases");
+  const Run r = morun(quoted(std::string(MO_TEST_DATA_DIR) + "/SampledDesign.mop") + " -o " +
+                          quoted((dir / "out").string()) +
+                          " --set T=0.5 --option criterion=D --option measurements=4 --option n_e=8"
+                          " --option max_iter=1 --option hessian_fallback=false --option "
+                          "'ipopt_options={\"derivative_test=second-order\", "
+                          "\"derivative_test_perturbation=1e-7\"}'",
+                      dir);
+  INFO(r.err);
+  const std::string log = slurp(dir / "out" / "ipopt.log");
+  REQUIRE(log.find("Starting derivative checker") != std::string::npos);
+  const std::string first = checker_section(log, "first");
+  const std::string second = checker_section(log, "second");
+  INFO(first);
+  INFO(second);
+  CHECK(first.find("\n* ") == std::string::npos);
+  CHECK(second.find("\n* ") == std::string::npos);
+}
