@@ -181,7 +181,8 @@ std::vector<double> solved_switch_times(const PhasedModel& pm, const runtime::Op
 }
 
 /// The solution on physical time for the base model: trajectories, element
-/// times and controls of all phases in sequence.
+/// times and controls of all phases in sequence. A solve that ended before
+/// it had a solution (an invalid problem) gives its status and message only.
 runtime::OptimizationResult physical_result(const PhasedModel& pm, const runtime::OptimizationResult& r,
                                             const std::vector<double>& taus, const runtime::ModelInfo& base,
                                             std::size_t num_controls) {
@@ -199,6 +200,7 @@ runtime::OptimizationResult physical_result(const PhasedModel& pm, const runtime
   for (const auto& x : base.states) names.push_back(x.name);
   for (const auto& u : base.inputs) names.push_back(u.name);
   R.trajectories = runtime::ResultTable(names);
+  if (r.trajectories.rows() == 0 || r.control_values.size() < num_controls * pm.phases) return R;
   std::vector<double> row(pm.nx + pm.nu);
   for (std::size_t k = 0; k < pm.phases; ++k) {
     const double len = taus[k + 1] - taus[k];
@@ -421,6 +423,11 @@ int optimal_control_with_events(frontend::flat::Model& flat, const StudyCli& cli
     const std::vector<double> taus = boundary_times(pm, r, P.t0, P.tf);
     const std::vector<double> switches = solved_switch_times(pm, r);
     R = physical_result(pm, r, taus, info, P.controls.size());
+    if (R.trajectories.rows() == 0) {
+      std::cerr << "morun: error: the optimisation ended without a solution: " << runtime::to_string(R.status) << ": "
+                << R.message << "\n";
+      return 1;
+    }
     Pphys.collocation.n_e = static_cast<int>(R.element_times.size()) - 1;
     EventCheck check = check_resimulation(*s.built.model, ode, rel, seq, Pphys, R, switches, min_gap);
     status = event_status(R, check, check.same_modes, kTimeTolerance * (P.tf - P.t0), kStateTolerance);

@@ -148,6 +148,10 @@ EventDesignRun solve_event_design(const Study& s, symbolic::OdeModel& ode, const
     const std::vector<double> switches = solved_switch_times(pm, r.optimization);
     out.result.optimization = physical_result(pm, r.optimization, taus, info, P.controls.size());
     runtime::OptimizationResult& R = out.result.optimization;
+    if (R.trajectories.rows() == 0) {
+      out.error = fmt::format("the design ended without a solution: {}: {}", runtime::to_string(R.status), R.message);
+      return out;
+    }
     runtime::OptimalControlProblem Pphys = e.Pphys;
     Pphys.collocation.n_e = static_cast<int>(R.element_times.size()) - 1;
     EventCheck check = check_resimulation(*s.built.model, ode, e.rel, seq, Pphys, R, switches, e.min_gap);
@@ -155,6 +159,7 @@ EventDesignRun solve_event_design(const Study& s, symbolic::OdeModel& ode, const
                       interleaving(*check.modes, e.m.times, P.t0) == interleaving(seq, e.m.times, P.t0);
     out.status = event_status(R, check, same, e.time_tol, kStateTolerance);
     out.events = events_json(ode, seq, check, pm.phases, attempt, switches, same, e.time_tol, kStateTolerance);
+    out.result.attempts = r.attempts;
     out.result.fisher_collocation = r.fisher_collocation;
     out.result.information_collocation = r.information_collocation;
     out.result.information_resimulated = std::nan("");

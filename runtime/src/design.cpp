@@ -72,8 +72,12 @@ InputDesignResult design_once(const Model& model, const InputDesignProblem& prob
   detail::CollocationNlp nlp(model, detail::nlp_setup(ocp), {detail::experiment_setup(ocp)});
   detail::add_problem_terms(nlp, ocp, 0);
   auto outputs = detail::sensitivity_outputs(model.info(), problem.measurements, problem.parameters);
-  const bool lifted = outputs && ocp.solver.hessian != HessianMode::limited_memory &&
-                      model.provides_hessian(Hessian::f) && model.provides_hessian(Hessian::h);
+  // The lifted F with exact Hessians where the model has them; with limited
+  // memory the criterion on the trajectory (issue 11's earlier formulation),
+  // unless the model has sensitivity outputs only (a multi-phase model).
+  const bool lifted = outputs && ((ocp.solver.hessian != HessianMode::limited_memory &&
+                                   model.provides_hessian(Hessian::f) && model.provides_hessian(Hessian::h)) ||
+                                  !detail::has_sensitivity_states(model.info(), problem.parameters));
   auto fisher = lifted ? add_lifted_criterion(nlp, problem, std::move(*outputs))
                        : add_trajectory_criterion(nlp, problem);
   double build = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

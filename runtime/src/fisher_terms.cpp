@@ -2,6 +2,7 @@
 
 #include "output_terms.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -39,6 +40,23 @@ Eigen::MatrixXd symmetric_unit(int n, int a, int b) {
 
 }  // namespace
 
+std::vector<std::vector<int>> sensitivity_state_map(const ModelInfo& info, const std::vector<std::size_t>& parameters) {
+  const std::size_t base = info.num_base_states();
+  std::vector<std::vector<int>> map(base, std::vector<int>(parameters.size(), -1));
+  for (std::size_t s = 0; s < info.states.size(); ++s)
+    if (const auto& of = info.states[s].sensitivity)
+      for (std::size_t j = 0; j < parameters.size(); ++j)
+        if (of->parameter == parameters[j] && of->state < base) map[of->state][j] = int(s);
+  return map;
+}
+
+bool has_sensitivity_states(const ModelInfo& info, const std::vector<std::size_t>& parameters) {
+  const auto map = sensitivity_state_map(info, parameters);
+  for (std::size_t j = 0; j < parameters.size(); ++j)
+    if (std::none_of(map.begin(), map.end(), [&](const auto& row) { return row[j] >= 0; })) return false;
+  return true;
+}
+
 FisherEvaluator::FisherEvaluator(const CollocationNlp& nlp, MeasurementDesign measurements,
                                  std::vector<std::size_t> parameters)
     : m_(std::move(measurements)), parameters_(std::move(parameters)) {
@@ -50,25 +68,17 @@ FisherEvaluator::FisherEvaluator(const CollocationNlp& nlp, MeasurementDesign me
   for (std::size_t k = 0; k < m_.outputs.size(); ++k)
     if (m_.outputs[k] >= info.outputs.size() || !(m_.sigma[k] > 0.0))
       throw ProblemError("measured output index out of range or sigma not positive");
-  sensitivity_state_.assign(base_states_, std::vector<int>(parameters_.size(), -1));
-  for (std::size_t s = 0; s < info.states.size(); ++s)
-    if (const auto& of = info.states[s].sensitivity)
-      for (std::size_t j = 0; j < parameters_.size(); ++j)
-        if (of->parameter == parameters_[j] && of->state < base_states_)
-          sensitivity_state_[of->state][j] = int(s);
   // Missing S(i, j) are structurally zero (the compiler emits only nonzero
   // ones); a parameter without any sensitivity state is an error.
   for (std::size_t s = 0; s < base_states_; ++s)
     if (info.states[s].sensitivity)
       throw ProblemError("sensitivity state " + info.states[s].name +
                          " among the base states (base states must come first)");
-  for (std::size_t j = 0; j < parameters_.size(); ++j) {
-    bool any = false;
-    for (std::size_t s = 0; s < base_states_; ++s) any = any || sensitivity_state_[s][j] >= 0;
-    if (!any)
+  sensitivity_state_ = sensitivity_state_map(info, parameters_);
+  for (std::size_t j = 0; j < parameters_.size(); ++j)
+    if (std::none_of(sensitivity_state_.begin(), sensitivity_state_.end(), [&](const auto& row) { return row[j] >= 0; }))
       throw ProblemError("the model has no sensitivity states for parameter " +
                          info.parameters.at(parameters_[j]).name);
-  }
   const ExperimentSetup& ex = nlp.experiment(0);
   std::set<int> vars;
   for (double t : m_.times) {

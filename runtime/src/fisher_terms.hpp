@@ -12,6 +12,13 @@
 
 namespace mo::runtime::detail {
 
+/// [base state i][j] → the state ∂x_i/∂p_j of `parameters[j]`, −1 where the
+/// model has none (structurally zero).
+std::vector<std::vector<int>> sensitivity_state_map(const ModelInfo& info, const std::vector<std::size_t>& parameters);
+/// Whether every parameter has a sensitivity state (FisherEvaluator's need):
+/// a multi-phase model has its phases' sensitivities as outputs only.
+bool has_sensitivity_states(const ModelInfo& info, const std::vector<std::size_t>& parameters);
+
 /// F(v) and ∇_v tr(G F(v)) at the measurement points of experiment 0.
 class FisherEvaluator {
 public:

@@ -140,3 +140,25 @@ TEST_CASE("design: a multi-phase design's exact Hessian passes Ipopt's derivativ
   CHECK(first.find("\n* ") == std::string::npos);
   CHECK(second.find("\n* ") == std::string::npos);
 }
+
+TEST_CASE("design: a multi-phase design that ends at the iteration limit tries the limited-memory fallback",
+          "[design_hessians][events]") {
+  // The stacked model has its phases' sensitivities as outputs only: the
+  // fallback takes the lifted F with L-BFGS (it used to refuse, and the
+  // study then crashed on the empty result).
+  const fs::path dir = scratch("design_phases_fallback");
+  const Run r = morun(quoted(std::string(MO_TEST_DATA_DIR) + "/SampledDesign.mop") + " -o " +
+                          quoted((dir / "out").string()) + " --option max_iter=1",
+                      dir);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  const json s = json::parse(slurp(dir / "out" / "summary.json"));
+  CHECK(s["status"] == "iteration_limit");
+  const json& attempts = s["design"]["attempts"];
+  REQUIRE(attempts.size() == 2);
+  CHECK(attempts[0]["hessian"] == "exact");
+  CHECK(attempts[1]["hessian"] == "limited_memory");
+  CHECK(attempts[1]["status"] == "iteration_limit");
+  CHECK(fs::exists(dir / "out" / "designed_input.csv"));
+  CHECK(fs::exists(dir / "out" / "ipopt_limited_memory.log"));
+}
