@@ -94,19 +94,42 @@ void set_options(Ipopt::OptionsList& o, const SolverOptions& options, bool exact
   o.SetStringValue("hessian_approximation", exact_hessian ? "exact" : "limited-memory");
   o.SetStringValue("nlp_scaling_method", user_scaling ? "user-scaling" : "gradient-based");
   o.SetIntegerValue("mumps_scaling", options.mumps_scaling ? 77 : 0);
+}
+
+/// Sets `ipopt_options` by the type Ipopt registered for each; the first
+/// option Ipopt does not know or whose value it rejects, as a message (empty
+/// if all were set).
+std::string set_user_options(Ipopt::IpoptApplication& app, const SolverOptions& options) {
+  Ipopt::OptionsList& o = *app.Options();
   for (const auto& [name, value] : options.ipopt_options) {
+    const Ipopt::SmartPtr<const Ipopt::RegisteredOption> registered = app.RegOptions()->GetOption(name);
+    if (Ipopt::IsNull(registered)) return "ipopt_options: '" + name + "' is not an option of Ipopt";
     char* end = nullptr;
-    long as_int = std::strtol(value.c_str(), &end, 10);
-    if (end && *end == '\0' && !value.empty()) {
-      o.SetIntegerValue(name, Ipopt::Index(as_int));
-      continue;
+    bool set = false;
+    const char* expected = "";
+    switch (registered->Type()) {
+    case Ipopt::OT_Integer: {
+      const long as_int = std::strtol(value.c_str(), &end, 10);
+      set = !value.empty() && *end == '\0' && o.SetIntegerValue(name, Ipopt::Index(as_int));
+      expected = "an integer";
+      break;
     }
-    double as_real = std::strtod(value.c_str(), &end);
-    if (end && *end == '\0' && !value.empty())
-      o.SetNumericValue(name, as_real);
-    else
-      o.SetStringValue(name, value);
+    case Ipopt::OT_Number: {
+      const double as_real = std::strtod(value.c_str(), &end);
+      set = !value.empty() && *end == '\0' && o.SetNumericValue(name, as_real);
+      expected = "a number";
+      break;
+    }
+    default:
+      set = o.SetStringValue(name, value);
+      expected = "one of the settings Ipopt lists for it";
+      break;
+    }
+    if (!set)
+      return "ipopt_options: '" + value + "' is not a valid value of Ipopt's option '" + name + "' (" + expected +
+             " expected)";
   }
+  return {};
 }
 
 }  // namespace
@@ -166,6 +189,12 @@ IpoptOutcome solve_with_ipopt(CollocationNlp& nlp, const SolverOptions& options)
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->RethrowNonIpoptException(false);
   set_options(*app->Options(), options, exact, user_scaling);
+  if (std::string refused = set_user_options(*app, options); !refused.empty()) {
+    out.status = OptimizationStatus::invalid_problem;
+    out.message = std::move(refused);
+    out.solution = nlp.initial_guess();
+    return out;
+  }
   app->Options()->SetNumericValue("obj_scaling_factor", nlp.objective_scaling());
   double evaluation_seconds = 0.0;
   bool restarted = false;

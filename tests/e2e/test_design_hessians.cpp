@@ -162,3 +162,35 @@ TEST_CASE("design: a multi-phase design that ends at the iteration limit tries t
   CHECK(fs::exists(dir / "out" / "designed_input.csv"));
   CHECK(fs::exists(dir / "out" / "ipopt_limited_memory.log"));
 }
+
+TEST_CASE("design: ipopt_options are set by the type Ipopt registered and refused when Ipopt refuses them",
+          "[design_hessians]") {
+  struct Case {
+    std::string options, message;  // message empty: accepted
+  };
+  const std::vector<Case> cases{
+      {R"("bound_push=1", "print_user_options=yes")", ""},  // a number written as an integer
+      {R"("mu_stratgy=adaptive")", "ipopt_options: 'mu_stratgy' is not an option of Ipopt"},
+      {R"("mu_strategy=bogus")", "ipopt_options: 'bogus' is not a valid value of Ipopt's option 'mu_strategy'"},
+      {R"("max_iter=1e3")", "ipopt_options: '1e3' is not a valid value of Ipopt's option 'max_iter' (an integer"},
+  };
+  int k = 0;
+  for (const Case& c : cases) {
+    CAPTURE(c.options);
+    const fs::path dir = scratch("design_ipopt_options" + std::to_string(k++));
+    const Run r = morun(kFirstOrder + " -o " + quoted((dir / "out").string()) + " --option 'ipopt_options={" +
+                            c.options + "}'",
+                        dir);
+    INFO(r.err);
+    const json s = json::parse(slurp(dir / "out" / "summary.json"));
+    if (c.message.empty()) {
+      CHECK(r.status == 0);
+      CHECK(slurp(dir / "out" / "ipopt.log").find("bound_push = 1") != std::string::npos);
+    } else {
+      CHECK(r.status != 0);
+      CHECK(s["status"] == "invalid_problem");
+      CHECK(s["message"].get<std::string>().find(c.message) != std::string::npos);
+      CHECK(r.err.find(c.message) != std::string::npos);
+    }
+  }
+}
