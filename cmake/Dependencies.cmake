@@ -18,10 +18,15 @@ foreach(lib cvodes idas nvecserial sunlinsoldense sunmatrixdense sunlinsolklu su
   find_library(SUNDIALS_${lib}_LIBRARY sundials_${lib})
 endforeach()
 add_library(mo_sundials INTERFACE)
-target_include_directories(mo_sundials SYSTEM INTERFACE ${SUNDIALS_INCLUDE_DIR})
+# KLU (SuiteSparse; libsuitesparse-dev) is the sparse linear solver of large
+# simulations (runtime/src/cvode_jacobian.hpp); sunlinsol_klu.h includes klu.h.
+find_path(KLU_INCLUDE_DIR klu.h PATH_SUFFIXES suitesparse REQUIRED)
+find_library(KLU_LIBRARY klu REQUIRED)
+target_include_directories(mo_sundials SYSTEM INTERFACE ${SUNDIALS_INCLUDE_DIR} ${KLU_INCLUDE_DIR})
 target_link_libraries(mo_sundials INTERFACE
   ${SUNDIALS_cvodes_LIBRARY} ${SUNDIALS_idas_LIBRARY} ${SUNDIALS_nvecserial_LIBRARY}
-  ${SUNDIALS_sunlinsoldense_LIBRARY} ${SUNDIALS_sunmatrixdense_LIBRARY})
+  ${SUNDIALS_sunlinsoldense_LIBRARY} ${SUNDIALS_sunmatrixdense_LIBRARY}
+  ${SUNDIALS_sunlinsolklu_LIBRARY} ${SUNDIALS_sunmatrixsparse_LIBRARY} ${KLU_LIBRARY})
 
 set(MO_ANTLR4_INCLUDE_DIR /usr/include/antlr4-runtime CACHE PATH "ANTLR4 C++ runtime headers")
 add_library(mo_antlr4 INTERFACE)

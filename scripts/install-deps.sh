@@ -22,6 +22,7 @@ done
 packages=(
   build-essential cmake ninja-build ccache pkg-config
   libeigen3-dev coinor-libipopt-dev libsundials-dev
+  libsuitesparse-dev  # KLU, the sparse linear solver of large simulations (also pulled by libsundials-dev)
   antlr4 libantlr4-runtime-dev libfmt-dev catch2 libcli11-dev nlohmann-json3-dev
   libmatio-dev  # MATLAB .mat result and measurement files
   libexpat1-dev  # reads the init file Scilab writes beside a diagram's flat model

@@ -2,12 +2,11 @@
 // root finding for state events, event iteration, restarts, sensitivities.
 #include "mo/runtime/simulate.hpp"
 
+#include "cvode_jacobian.hpp"
 #include "event_sensitivity.hpp"
 
 #include <cvodes/cvodes.h>
 #include <nvector/nvector_serial.h>
-#include <sunlinsol/sunlinsol_dense.h>
-#include <sunmatrix/sunmatrix_dense.h>
 
 #include <fmt/format.h>
 
@@ -179,6 +178,7 @@ private:
 
   Context context_;
   Cvode cvode_;
+  std::optional<detail::CvodeJacobian> jacobian_;  ///< how ∂f/∂x reaches CVODES' matrix
   std::unique_ptr<Vector> x_;
   std::unique_ptr<VectorArray> s_;
   std::vector<double> pbar_;
@@ -204,16 +204,10 @@ int Simulation::jacobian_callback(double t, N_Vector x, N_Vector fx, SUNMatrix j
                                   N_Vector, N_Vector, N_Vector) {
   auto& sim = *static_cast<Simulation*>(self);
   sim.evaluate_inputs(t);
-  const Sparsity& sp = sim.model_.jacobian_sparsity(Jacobian::f_x);
   sim.model_.jacobian_values(Jacobian::f_x, t, {N_VGetArrayPointer(x), sim.nx_}, sim.u_, sim.p_,
                              sim.fx_values_);
   if (!all_finite(sim.fx_values_)) return sim.difference_jacobian(t, x, fx, jac);
-  SUNMatZero(jac);
-  for (int c = 0; c < sp.cols; ++c) {
-    double* column = SUNDenseMatrix_Column(jac, c);
-    for (int k = sp.col_start[c]; k < sp.col_start[c + 1]; ++k)
-      column[sp.row_index[k]] = sim.fx_values_[k];
-  }
+  sim.jacobian_->store(jac, sim.fx_values_);
   return 0;
 }
 
@@ -226,18 +220,19 @@ int Simulation::jacobian_callback(double t, N_Vector x, N_Vector fx, SUNMatrix j
 int Simulation::difference_jacobian(double t, N_Vector x, N_Vector fx, SUNMatrix jac) {
   const double root_eps = std::sqrt(std::numeric_limits<double>::epsilon());
   const double* f0 = N_VGetArrayPointer(fx);
-  std::vector<double> xs(N_VGetArrayPointer(x), N_VGetArrayPointer(x) + nx_), f(nx_);
+  std::vector<double> xs(N_VGetArrayPointer(x), N_VGetArrayPointer(x) + nx_), f(nx_), column(nx_);
+  jacobian_->begin_columns(jac);
   for (std::size_t c = 0; c < nx_; ++c) {
     const double saved = xs[c];
     xs[c] += root_eps * std::max(std::abs(saved), std::abs(info_.states[c].nominal));
     const double step = xs[c] - saved;
     model_.rhs(t, xs, u_, p_, f);
     xs[c] = saved;
-    double* column = SUNDenseMatrix_Column(jac, static_cast<sunindextype>(c));
     for (std::size_t r = 0; r < nx_; ++r) {
       column[r] = (f[r] - f0[r]) / step;
       if (!std::isfinite(column[r])) return 1;
     }
+    jacobian_->store_column(jac, static_cast<int>(c), column);
   }
   ++result_.statistics.difference_jacobians;
   return 0;
@@ -463,8 +458,14 @@ bool Simulation::set_up() {
   }
   if (max_step > 0.0) CVodeSetMaxStep(cv, max_step);
 
-  cvode_.matrix = SUNDenseMatrix(n, n, context_.ctx);
-  cvode_.solver = SUNLinSol_Dense(x_->v, cvode_.matrix, context_.ctx);
+  jacobian_.emplace(model_.jacobian_sparsity(Jacobian::f_x), n, options_.linear_solver, options_.use_model_jacobian);
+  result_.statistics.sparse_linear_solver = jacobian_->sparse();
+  cvode_.matrix = jacobian_->make_matrix(context_.ctx);
+  cvode_.solver = cvode_.matrix ? jacobian_->make_solver(x_->v, cvode_.matrix, context_.ctx) : nullptr;
+  if (!cvode_.solver) {
+    fail(SimulationStatus::linear_solver_failure, "SUNDIALS could not create the integrator's linear solver");
+    return false;
+  }
   flag = CVodeSetLinearSolver(cv, cvode_.solver, cvode_.matrix);
   if (flag != CV_SUCCESS) return fail_cvode(flag, "CVodeSetLinearSolver", t0), false;
   if (options_.use_model_jacobian) CVodeSetJacFn(cv, jacobian_callback);

@@ -86,6 +86,7 @@ struct SolverStatistics {
   long events = 0;                   ///< handled state and time events
   long restarts = 0;                 ///< integrator re-initialisations (events and input breakpoints)
   long difference_jacobians = 0;     ///< Jacobians taken by differences: the model's was not finite there
+  bool sparse_linear_solver = false;  ///< KLU (SimulationOptions::linear_solver), else dense LU
   double wall_time_seconds = 0.0;    ///< whole simulate() call
 };
 

@@ -54,6 +54,13 @@ struct SensitivityOptions {
   bool error_control = true;  ///< include sensitivities in the local error test
 };
 
+/// The linear solver of the integrator's Newton iteration.
+enum class LinearSolverChoice {
+  automatic,  ///< sparse from 100 states with a Jacobian pattern at most a tenth full, else dense
+  dense,      ///< dense LU (SUNDIALS' own)
+  sparse,     ///< KLU on the pattern of ∂f/∂x and the diagonal (needs use_model_jacobian)
+};
+
 /// Integrator settings.
 struct SimulationOptions {
   double relative_tolerance = 1e-6;  ///< CVODES rtol
@@ -63,7 +70,8 @@ struct SimulationOptions {
   long max_steps = 100000;            ///< steps allowed between two outputs or stops
   int max_event_iterations = 50;      ///< handler repeats at one event instant
   long max_events = 100000;           ///< events in one simulation (guards Zeno behaviour)
-  bool use_model_jacobian = true;     ///< else CVODES' difference-quotient Jacobian
+  bool use_model_jacobian = true;     ///< else CVODES' difference-quotient Jacobian (dense)
+  LinearSolverChoice linear_solver = LinearSolverChoice::automatic;
   SensitivityOptions sensitivities;   ///< forward sensitivities
 };
 
