@@ -54,6 +54,12 @@ big=""; [ "${FULL:-0}" = 1 ] && big="20000"
   "$build/bench/simulate_cart_pendulum" "$runs"
   echo '```'
   echo
+  echo "### Large sparse simulations, dense LU against KLU (\`simulate_scale\`)"
+  echo
+  echo '```'
+  "$build/bench/simulate_scale" 50 200 1000 2000 2>&1
+  echo '```'
+  echo
   echo "### Generated-code compile time and cached rerun (\`codegen_scale\`)"
   echo
   echo '```'

@@ -51,6 +51,7 @@ struct Options {
   bool plot = false;
   unsigned jobs = 2;
   double rtol = 1e-6, atol = 1e-8;
+  std::string linear_solver = "auto";  // auto, dense or klu
   std::vector<std::string> measure;  // outputs sampled into measurements.csv
   double noise = 0.0;                // their noise standard deviation
   unsigned long seed = 1;            // of the noise
@@ -203,6 +204,9 @@ int run(const Options& opt, tools::RunContext& ctx) {
   runtime::SimulationOptions so;
   so.relative_tolerance = opt.rtol;
   so.absolute_tolerance = opt.atol;
+  so.linear_solver = opt.linear_solver == "klu"     ? runtime::LinearSolverChoice::sparse
+                     : opt.linear_solver == "dense" ? runtime::LinearSolverChoice::dense
+                                                    : runtime::LinearSolverChoice::automatic;
   if (!opt.sensitivities.empty()) so.sensitivities.method = runtime::SensitivityMethod::model_states;
   // Every requested parameter, so that one without sensitivity states is
   // reported by simulate() instead of silently missing from the columns.
@@ -323,6 +327,11 @@ int main(int argc, char** argv) {
   app.add_option("--seed", opt.seed, "Seed of the --noise generator")->capture_default_str();
   app.add_option("--rtol", opt.rtol, "Relative tolerance")->capture_default_str();
   app.add_option("--atol", opt.atol, "Absolute tolerance (scaled by nominal values)")->capture_default_str();
+  app.add_option("--linear-solver", opt.linear_solver,
+                 "The integrator's linear solver: auto (KLU, sparse LU, from 100 states whose Jacobian is at most a "
+                 "tenth full; dense LU below), dense or klu")
+      ->check(CLI::IsMember({"auto", "dense", "klu"}))
+      ->capture_default_str();
   tools::add_diagram_options(app, opt.diagram);
   try {
     app.parse(argc, argv);

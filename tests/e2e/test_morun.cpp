@@ -111,3 +111,38 @@ TEST_CASE("morun: --set x.start=v and --sensitivities x.start reach the initial 
   const auto at = std::find(names.begin(), names.end(), "d(x)/d(x.start)") - names.begin();
   CHECK(std::stod(values[static_cast<std::size_t>(at)]) == 1.0);
 }
+
+TEST_CASE("morun: --linear-solver picks KLU or dense LU and summary.json says which") {
+  // 150 states, two nonzeros per row: auto takes KLU; both give the Erlang CDF.
+  const fs::path dir = scratch("morun_linear_solver");
+  std::map<std::string, std::string> last_rows;
+  for (const std::string choice : {"auto", "klu", "dense"}) {
+    CAPTURE(choice);
+    const fs::path out = dir / choice;
+    const Run r = morun(quoted(kData + "LagChain.mo") + " --stop-time 20 --intervals 4 --rtol 1e-10 --atol 1e-12"
+                        " --variables 'x\\[150\\]' --linear-solver " + choice + " -o " + quoted(out.string()),
+                        dir);
+    INFO(r.err);
+    REQUIRE(r.status == 0);
+    const std::string summary = slurp(out / "summary.json");
+    CHECK(summary.find(std::string("\"linear_solver\": \"") + (choice == "dense" ? "dense" : "klu") + "\"") !=
+          std::string::npos);
+    std::ifstream in(out / "result.csv");
+    std::string line, last;
+    while (std::getline(in, line)) last = line;
+    last_rows[choice] = last;
+  }
+  // x_150(20) = P(150, 200), read at the csv's precision.
+  double term = std::exp(-200.0), sum = 0.0;
+  for (int j = 0; j < 149; ++j) sum += term, term *= 200.0 / (j + 1);
+  const double exact = 1.0 - (sum + term);
+  for (const auto& [choice, row] : last_rows) {
+    CAPTURE(choice, row);
+    CHECK(std::stod(row.substr(row.find(',') + 1)) == Approx(exact).margin(1e-7));
+  }
+  const Run bad = morun(quoted(kData + "LagChain.mo") + " --stop-time 1 --linear-solver lu -o " +
+                            quoted((dir / "bad").string()),
+                        dir);
+  CHECK(bad.status == 2);
+  CHECK(bad.err.find("--linear-solver") != std::string::npos);
+}
