@@ -71,6 +71,10 @@ FisherSamples::FisherSamples(const CollocationNlp& nlp, const MeasurementDesign&
       of_[r].emplace_back();
       for (int z : depends[out]) of_[r].back().push_back(position(local_[r], z));
     }
+  index_columns();
+}
+
+void FisherSamples::index_columns() {
   for (int a = 0; a < n_; ++a)
     for (int b = 0; b <= a; ++b) {
       std::set<int> cols;

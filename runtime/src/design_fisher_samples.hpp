@@ -65,6 +65,8 @@ private:
   Eigen::MatrixXd sensitivities(CollocationNlp& nlp, std::span<const double> v,
                                 const PointRef& pt) const;
   LocalJacobians local_jacobians(CollocationNlp& nlp, std::span<const double> v, const PointRef& pt) const;
+  /// Fills columns_ and in_columns_ from local_ and of_.
+  void index_columns();
 
   std::vector<PointRef> points_;
   std::vector<double> weight_;                   // 1/σ_r²
