@@ -64,8 +64,16 @@ struct CaseStats {
   std::vector<std::vector<double>> estimates;  ///< per successful seed
   std::vector<bool> covered;                   ///< per successful seed, all parameters in their CI
   int failures = 0;
+  std::map<std::string, int> failed_with;  ///< failed runs per reason (the estimation's status)
   Eigen::MatrixXd fisher;
 };
+
+/// "iteration_limit ×3, infeasible ×1".
+std::string reasons_text(const std::map<std::string, int>& reasons) {
+  std::string out;
+  for (const auto& [why, count] : reasons) out += fmt::format("{}{} ×{}", out.empty() ? "" : ", ", why, count);
+  return out;
+}
 
 json case_json(const CaseStats& c, const std::vector<std::string>& names,
                const std::vector<double>& truth) {
@@ -73,9 +81,11 @@ json case_json(const CaseStats& c, const std::vector<std::string>& names,
   j["input"] = c.input;
   j["runs"] = c.estimates.size();
   j["failures"] = c.failures;
+  if (!c.failed_with.empty()) j["failed_with"] = c.failed_with;
   std::size_t covered = 0;
   for (bool b : c.covered) covered += b ? 1 : 0;
-  j["ci_coverage"] = c.covered.empty() ? 0.0 : double(covered) / double(c.covered.size());
+  // No estimate, no statistic: null rather than numbers of an empty sample.
+  j["ci_coverage"] = c.covered.empty() ? json(nullptr) : json(double(covered) / double(c.covered.size()));
   Eigen::MatrixXd inv;
   if (c.fisher.size() > 0 && c.fisher.determinant() > 0) inv = c.fisher.inverse();
   json params = json::array();
@@ -86,9 +96,11 @@ json case_json(const CaseStats& c, const std::vector<std::string>& names,
     for (const auto& e : c.estimates) sq += (e[k] - mean) * (e[k] - mean);
     const double sd = c.estimates.size() > 1 ? std::sqrt(sq / double(c.estimates.size() - 1)) : 0.0;
     const double crb = inv.size() ? std::sqrt(inv(static_cast<Eigen::Index>(k), static_cast<Eigen::Index>(k))) : NAN;
-    params.push_back({{"name", names[k]}, {"true", truth[k]}, {"mean", mean}, {"std", sd},
+    const bool any = !c.estimates.empty();
+    params.push_back({{"name", names[k]}, {"true", truth[k]}, {"mean", any ? json(mean) : json(nullptr)},
+                      {"std", c.estimates.size() > 1 ? json(sd) : json(nullptr)},
                       {"cramer_rao", std::isfinite(crb) ? json(crb) : json(nullptr)},
-                      {"bias", mean - truth[k]}});
+                      {"bias", any ? json(mean - truth[k]) : json(nullptr)}});
   }
   j["parameters"] = params;
   return j;
@@ -122,11 +134,14 @@ json monte_carlo_run(Study& s, const std::vector<runtime::FreeParameter>& free,
   const auto r = s.estimate ? s.estimate(e) : runtime::estimate_parameters(*s.built.model, e);
   solve_seconds += seconds_since(started);
   for (const auto& x : r.experiments) solve_seconds -= x.timings.resimulation, simulate_seconds += x.timings.resimulation;
-  const bool ok = (r.status == runtime::OptimizationStatus::success ||
-                   r.status == runtime::OptimizationStatus::acceptable) &&
-                  r.confidence_interval.size() == free.size();
+  const bool converged =
+      r.status == runtime::OptimizationStatus::success || r.status == runtime::OptimizationStatus::acceptable;
+  const bool ok = converged && r.confidence_interval.size() == free.size();
   json j{{"ok", ok}, {"solve", solve_seconds}, {"simulate", simulate_seconds}};
-  if (!ok) return j;
+  if (!ok) {
+    j["why"] = converged ? std::string("no confidence interval") : std::string(runtime::to_string(r.status));
+    return j;
+  }
   j["estimate"] = r.estimate;
   std::vector<double> lo, hi;
   for (const auto& ci : r.confidence_interval) lo.push_back(ci.lo), hi.push_back(ci.hi);
@@ -191,6 +206,7 @@ int monte_carlo(Study& s) {
     solve_seconds += j.value("solve", 0.0), simulate_seconds += j.value("simulate", 0.0);
     if (!j.value("ok", false)) {
       ++st.failures;
+      ++st.failed_with[j.value("why", std::string("unknown"))];
       continue;
     }
     const auto est = j.at("estimate").get<std::vector<double>>();
@@ -219,10 +235,20 @@ int monte_carlo(Study& s) {
   if (run) run->timings.add("solve", solve_seconds), run->timings.add("simulate", simulate_seconds);
   runtime::write_file_atomic((fs::path(s.cli.output) / "monte_carlo.csv").string(),
                              [&](std::ostream& os) { os << csv; });
-  json summary{{"model", info.name}, {"seeds", s.opt.seeds}, {"cases", cases}};
+  // A case without a single estimate has no statistic: the study failed.
+  std::string message;
+  for (std::size_t c = 0; c < n_cases; ++c)
+    if (stats[c].estimates.empty())
+      message += fmt::format("{}case {}: every run failed ({})", message.empty() ? "" : "; ", c + 1,
+                             reasons_text(stats[c].failed_with));
+  json summary{{"model", info.name}, {"seeds", s.opt.seeds}, {"cases", cases},
+               {"status", message.empty() ? "success" : "failed"}};
+  if (!message.empty()) summary["message"] = message;
   runtime::write_file_atomic((fs::path(s.cli.output) / "summary.json").string(),
                              [&](std::ostream& os) { os << summary.dump(2) << "\n"; });
-  return 0;
+  if (message.empty()) return 0;
+  std::cerr << "morun: error: monte_carlo: " << message << "\n";
+  return 1;
 }
 
 }  // namespace mo::tools::detail

@@ -274,6 +274,34 @@ TEST_CASE("Monte Carlo through a sampled controller: the Cramer-Rao bound throug
     CHECK(double(p["cramer_rao"]) == Approx(bound[i]).epsilon(1e-6));
     CHECK(std::abs(double(p["bias"])) < 2.0 * bound[i]);
   }
+  CHECK(s["status"] == "success");
+}
+
+TEST_CASE("Monte Carlo whose every run fails says so: no statistics of an empty sample and exit 1",
+          "[events][studies]") {
+  // One Ipopt iteration per estimate: every run ends at the iteration limit.
+  // The summary used to give mean 0, bias −truth and exit 0.
+  const fs::path dir = scratch("event_monte_carlo_failed");
+  const Run r = morun(quoted(kData + "SampledMonteCarlo.mop") + " -j 1 --option max_iter=1 -o " +
+                          quoted((dir / "out").string()),
+                      dir);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("case 1: every run failed (iteration_limit ×4)") != std::string::npos);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "failed");
+  const json& c = s["cases"][0];
+  CHECK(c["runs"] == 0);
+  CHECK(c["failures"] == 4);
+  CHECK(c["failed_with"]["iteration_limit"] == 4);
+  CHECK(c["ci_coverage"].is_null());
+  for (const json& p : c["parameters"]) {
+    INFO(p.dump());
+    CHECK(p["mean"].is_null());
+    CHECK(p["bias"].is_null());
+    CHECK(p["std"].is_null());
+    CHECK(p["cramer_rao"].is_number());  // from the truth's sensitivities, not from the runs
+  }
 }
 
 TEST_CASE("a kick period designed through ticks that move with it: the Fisher matrix equals finite differences",
