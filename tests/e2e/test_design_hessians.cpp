@@ -22,6 +22,19 @@ std::string checker_section(const std::string& log, const std::string& which) {
   return log.substr(at, log.find("Number of nonzeros", at) - at);
 }
 
+/// Ipopt's first- and second-order derivative checks in `log_file` ran and
+/// starred no entry.
+void check_derivatives(const fs::path& log_file) {
+  const std::string log = slurp(log_file);
+  REQUIRE(log.find("Starting derivative checker") != std::string::npos);
+  const std::string first = checker_section(log, "first");
+  const std::string second = checker_section(log, "second");
+  INFO(first);
+  INFO(second);
+  CHECK(first.find("\n* ") == std::string::npos);
+  CHECK(second.find("\n* ") == std::string::npos);
+}
+
 }  // namespace
 
 TEST_CASE("design: the lifted Fisher NLP's exact Hessian passes Ipopt's derivative checker",
@@ -40,14 +53,7 @@ TEST_CASE("design: the lifted Fisher NLP's exact Hessian passes Ipopt's derivati
                             "\"derivative_test_perturbation=1e-7\"}'",
                         dir);
     INFO(r.err);
-    const std::string log = slurp(dir / "out" / "ipopt.log");
-    REQUIRE(log.find("Starting derivative checker") != std::string::npos);
-    const std::string first = checker_section(log, "first");
-    const std::string second = checker_section(log, "second");
-    INFO(first);
-    INFO(second);
-    CHECK(first.find("\n* ") == std::string::npos);
-    CHECK(second.find("\n* ") == std::string::npos);
+    check_derivatives(dir / "out" / "ipopt.log");
   }
 }
 
@@ -131,14 +137,7 @@ TEST_CASE("design: a multi-phase design's exact Hessian passes Ipopt's derivativ
                           "\"derivative_test_perturbation=1e-7\"}'",
                       dir);
   INFO(r.err);
-  const std::string log = slurp(dir / "out" / "ipopt.log");
-  REQUIRE(log.find("Starting derivative checker") != std::string::npos);
-  const std::string first = checker_section(log, "first");
-  const std::string second = checker_section(log, "second");
-  INFO(first);
-  INFO(second);
-  CHECK(first.find("\n* ") == std::string::npos);
-  CHECK(second.find("\n* ") == std::string::npos);
+  check_derivatives(dir / "out" / "ipopt.log");
 }
 
 TEST_CASE("design: a multi-phase design that ends at the iteration limit tries the limited-memory fallback",
