@@ -519,6 +519,17 @@ bool Flattener::written_by_user(const Instance &inst, const Modifier &mod) const
   return owner == top_.get() || (mod.scope != nullptr && mod.scope != owner);
 }
 
+/// Whether `Evaluate = true` covers parameter `inst`: on its own declaration or on that
+/// of a record parameter it is a field of (`parameter Card card annotation(Evaluate =
+/// true)`, the MSL's Spice3 model cards), as the annotation of a record is that of its
+/// elements. A model component is not a parameter, so the search ends there.
+static bool annotated_evaluate(const Instance &inst) {
+  for (const Instance *p = &inst; p != nullptr && p->variability == Variability::Parameter; p = p->parent)
+    if (p->decl && p->decl->evaluate)
+      return true;
+  return false;
+}
+
 void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifier &mod) {
   if (++scalars_made_ > opts_.max_elements)
     fail(DiagId::Unsupported, inst.decl ? inst.decl->range : SourceRange{},
@@ -537,7 +548,7 @@ void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifi
   v.top_level_input = inst.causality == ast::Causality::Input && inst.parent == top_.get() &&
                       inst.flat.find('.') == std::string::npos;
   v.description = inst.decl ? inst.decl->description : "";
-  v.evaluate = inst.decl && inst.decl->evaluate && v.variability == Variability::Parameter;
+  v.evaluate = v.variability == Variability::Parameter && annotated_evaluate(inst);
   v.range = inst.decl ? inst.decl->range : SourceRange{};
   if (model_->find(v.name) >= 0)
     fail(DiagId::DuplicateDeclaration, v.range, "two components flatten to the same name '" + v.name + "'");

@@ -188,6 +188,18 @@ TEST_CASE("a parameter with annotation(Evaluate = true) is structural: C = 0 lea
                          [](double t) { return 2 * std::sin(t); }, 1e-12);
 }
 
+TEST_CASE("Evaluate = true on a record parameter covers its fields: Cj = 0 leaves the junction algebraic") {
+  // tests/e2e/data/EvaluatedCard.mo (the MSL Spice3 devices' model cards)
+  auto model = compiled_model("e2e_evaluated_card",
+                              {{kData + "EvaluatedCard.mo", "EvaluatedCard.Circuit", {}, true}, {}});
+  REQUIRE(model->info().states.size() == 1);
+  CHECK(model->info().states[0].name == "v");
+  for (const auto& q : model->info().parameters) CHECK(q.name.rfind("card.", 0) != 0);
+  for (const auto& q : model->info().parameters) CHECK(q.name.rfind("junction.", 0) != 0);
+  simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 2, 20), "v",
+                         [](double t) { return std::exp(-t / (0.5 * (1 + 3))); }, 1e-7);
+}
+
 TEST_CASE("a loop closed through expandable connectors follows its closed form (BusLoop)", "[expandable]") {
   // The plant's speed reaches the controller through a sub-bus and two
   // connected buses; the command goes back as an element no bus declares.
