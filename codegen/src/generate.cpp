@@ -13,6 +13,7 @@
 
 #include "mo/codegen/cpp_text.hpp"
 #include "mo/codegen/program.hpp"
+#include "mo/symbolic/printer.hpp"
 #include "printer.hpp"
 
 namespace mo::codegen {
@@ -119,6 +120,7 @@ constexpr const char* info_builder = R"(mo::runtime::ModelInfo build_info() {
                                            static_cast<std::size_t>(discrete_sensitivity[3 * i + 2])});
   info.num_event_indicators = ng;
   for (std::size_t i = 0; i < ng; ++i) info.indicator_in_rhs.push_back(indicator_in_rhs[i] != 0);
+  for (std::size_t i = 0; i < ng; ++i) info.indicator_text.emplace_back(indicator_text[i]);
   for (std::size_t i = 0; i < nu; ++i) info.input_in_initial.push_back(input_in_initial[i] != 0);
   info.num_delays = ndelay;
   return info;
@@ -363,8 +365,25 @@ std::string sizes(const OdeModel& m, const Program& p) {
       p.layout.discrete, p.layout.pre_discrete, p.pre_copies.size(), m.initial_flag);
 }
 
-/// Per event indicator, 1 if a relation on it enters the right-hand side;
-/// per input, 1 if the initial system reads it.
+/// Indicator g as Modelica text for the runtime's diagnostics (a chattering
+/// relation); empty if its tree is larger than a message can show (a DAG's
+/// text writes out every use of a subexpression, see to_modelica()).
+std::string indicator_text(const symbolic::ExprArena& arena, symbolic::Expr g) {
+  constexpr std::size_t kMaxNodes = 200;
+  std::size_t visited = 0;
+  std::vector<symbolic::Expr> stack{g};
+  while (!stack.empty()) {
+    if (++visited > kMaxNodes) return {};
+    const symbolic::Expr e = stack.back();
+    stack.pop_back();
+    if (arena.kind(e) == symbolic::ExprKind::External) return {};
+    for (std::size_t i = 0; i < symbolic::arity(arena.kind(e)); ++i) stack.push_back(arena.operand(e, i));
+  }
+  return symbolic::to_modelica(arena, g);
+}
+
+/// Per event indicator, 1 if a relation on it enters the right-hand side,
+/// and its text; per input, 1 if the initial system reads it.
 std::string flag_tables(const OdeModel& m) {
   std::vector<int> in_rhs;
   for (std::size_t i = 0; i < m.zero_crossings.size(); ++i)
@@ -372,6 +391,8 @@ std::string flag_tables(const OdeModel& m) {
   std::vector<int> in_initial;
   for (bool read : m.inputs_in_initial_system()) in_initial.push_back(read ? 1 : 0);
   return array("int", "indicator_in_rhs", in_rhs, [](int x) { return std::to_string(x); }) +
+         array("std::string_view", "indicator_text", m.zero_crossings,
+               [&](symbolic::Expr g) { return sv(indicator_text(m.arena, g)); }) +
          array("int", "input_in_initial", in_initial, [](int x) { return std::to_string(x); });
 }
 

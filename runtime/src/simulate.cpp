@@ -38,6 +38,9 @@ namespace {
 /// How far a held indicator (exactly 0 where the integration started) must
 /// leave 0 to be an event (Simulation::hold_zero_indicators).
 constexpr double kHeldZero = 1e-12;
+// Chattering: this many roots within kChatterSpan of the simulated interval.
+constexpr long kChatterRoots = 1000;
+constexpr double kChatterSpan = 1e-6;
 
 // --- RAII owners of SUNDIALS objects ----------------------------------------
 
@@ -144,6 +147,7 @@ private:
     return false;
   }
   void hold_zero_indicators(double t, std::span<const int> crossed, bool hold_crossed = false);
+  bool chattering(double t, std::span<const int> roots);
   void held_crossings(double t, std::vector<int>& roots);
   bool handle_event(double t, std::span<const int> crossings, bool time_event, bool& changed);
   Eigen::MatrixXd sensitivities() const;
@@ -167,6 +171,9 @@ private:
   // them as inactive until they leave 0 and report no root then, so they are
   // given to it as |g| - kHeldZero while held (hold_zero_indicators).
   std::vector<char> held_;
+  double chatter_start_ = std::numeric_limits<double>::quiet_NaN();  // see chattering()
+  long chatter_roots_ = 0;
+  std::vector<long> chatter_crossings_;
   std::vector<double> g_;
 
   SensitivityMethod sens_method_ = SensitivityMethod::none;
@@ -297,6 +304,39 @@ void Simulation::hold_zero_indicators(double t, std::span<const int> crossed, bo
     const bool was_crossed = i < crossed.size() && crossed[i] != 0;
     held_[i] = was_crossed ? hold_crossed && std::abs(g_[i]) < kHeldZero : g_[i] == 0.0;
   }
+}
+
+// Roots that follow each other without time moving on end the run: a
+// relation that switches its own indicator back (a sliding mode, `der(x) =
+// if x > 0 then -1 else 1`) gives a root every few ulp, most of them changing
+// no discrete variable, so max_events never counts them and nothing else
+// ends the run. kChatterRoots roots within kChatterSpan of the interval
+// (1e-6 of it: 3 µs of 3 s, a root per 3 ns, which would need 10⁹ roots to
+// reach the end) are chattering; the message names the
+// indicator crossed most often.
+bool Simulation::chattering(double t, std::span<const int> roots) {
+  const double span = kChatterSpan * (grid_.times.back() - grid_.times.front());
+  if (!(t - chatter_start_ <= span)) {
+    chatter_start_ = t;
+    chatter_roots_ = 0;
+    chatter_crossings_.assign(ng_, 0);
+  }
+  ++chatter_roots_;
+  for (std::size_t i = 0; i < ng_ && i < roots.size(); ++i)
+    if (roots[i] != 0) ++chatter_crossings_[i];
+  if (chatter_roots_ < kChatterRoots) return false;
+  const auto most = static_cast<std::size_t>(
+      std::max_element(chatter_crossings_.begin(), chatter_crossings_.end()) - chatter_crossings_.begin());
+  const auto& texts = info_.indicator_text;
+  const std::string which = most < texts.size() && !texts[most].empty()
+                                ? fmt::format("of event indicator {}, {}", most, texts[most])
+                                : fmt::format("of event indicator {}", most);
+  fail(SimulationStatus::event_limit,
+       fmt::format("chattering at t = {}: {} state events within {} s, {} of them crossings {}; a relation "
+                   "whose switch moves its own indicator back (a sliding mode) has no solution by "
+                   "events: smooth the switch, give it hysteresis, or write it in noEvent()",
+                   t, chatter_roots_, t - chatter_start_, chatter_crossings_[most], which));
+  return true;
 }
 
 // CVODES reports a held indicator's |g| - kHeldZero rising through 0; the
@@ -862,6 +902,10 @@ SimulationResult Simulation::run() {
       if (flag == CV_ROOT_RETURN) {
         CVodeGetRootInfo(cv, roots.data());
         held_crossings(t, roots);
+              if (chattering(t, roots)) {
+          record_through(t);
+          return finish();
+        }
         record_delays(t, false, roots);
         bool changed = false;
         if (!handle_event(t, roots, false, changed)) {

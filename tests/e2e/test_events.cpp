@@ -259,3 +259,21 @@ TEST_CASE("terminate() in a when-clause ends the run at the event, with its mess
   CHECK(r.trajectory.times().back() > landing - 0.01 - 1e-9);  // the rows up to the event
   CHECK(discrete_value(*model, "landings") == 1.0);
 }
+
+TEST_CASE("a sliding mode ends the run as chattering, naming its indicator (SlidingSwitch)", "[events]") {
+  // On this grid CVODES returns the roots (on others its steps straddle them
+  // and it stops at max_steps, CV_TOO_MUCH_WORK: also an end, less telling).
+  auto model = compiled_model("e2e_sliding_switch", {{kData + "SlidingSwitch.mo", "", {}, true}, {}});
+  REQUIRE(model->info().indicator_text.size() == 1);
+  CHECK(model->info().indicator_text[0] == "x");
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(),
+                                   runtime::OutputGrid::uniform(0, 3, 500), runtime::SimulationOptions{});
+  CHECK(r.status == runtime::SimulationStatus::event_limit);
+  CHECK_THAT(r.message, Catch::StartsWith("chattering at t = 1.0"));
+  CHECK_THAT(r.message, Catch::Contains("1000 of them crossings of event indicator 0, x;"));
+  const auto& times = r.trajectory.times();
+  REQUIRE(times.size() >= 166);  // the rows up to the sliding
+  CHECK(times.back() < 1.01);
+  const auto x = column(r.trajectory, "x");
+  for (std::size_t k = 0; k < x.size(); ++k) CHECK(x[k] == Approx(std::max(0.0, 1 - times[k])).margin(1e-6));
+}

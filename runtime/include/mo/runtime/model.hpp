@@ -117,6 +117,9 @@ struct ModelInfo {
   /// Per indicator: false if no relation on it enters the right-hand side
   /// (it only feeds when-conditions and discrete equations); empty: all do.
   std::vector<bool> indicator_in_rhs;
+  /// Per indicator: g as Modelica text (`x - y` for the relation x > y), for
+  /// diagnostics; empty (or an empty text): not known.
+  std::vector<std::string> indicator_text;
   /// Per input: true if the initial system (the start values) reads it, so
   /// that x0 depends on u(t0); empty: none does.
   std::vector<bool> input_in_initial;
