@@ -903,7 +903,7 @@ SimulationResult Simulation::run() {
       if (flag == CV_ROOT_RETURN) {
         CVodeGetRootInfo(cv, roots.data());
         held_crossings(t, roots);
-              if (chattering(t, roots)) {
+        if (chattering(t, roots)) {
           record_through(t);
           return finish();
         }
