@@ -67,12 +67,31 @@ using tools::number;
 using tools::split_assignment;
 using tools::UsageError;
 
-std::vector<double> parameters(const runtime::ModelInfo& info, const Options& opt) {
+/// Why `name`, a component of the flat model, is not a parameter of the
+/// compiled one; empty if the flat model does not know it either.
+std::string why_not_a_parameter(const frontend::flat::Model& flat, const std::string& name) {
+  const std::int32_t i = flat.find(name);
+  if (i < 0) return {};
+  const frontend::flat::Variable& v = flat.variables[static_cast<std::size_t>(i)];
+  if (v.variability == frontend::ast::Variability::Constant) return ": it is a constant";
+  if (v.variability != frontend::ast::Variability::Parameter) return ": it is a variable, not a parameter";
+  if (v.evaluate)
+    return ": annotation(Evaluate = true) made its value part of the model's structure when it was "
+           "translated; change it in the model";
+  if (v.type != frontend::flat::BaseType::Real)
+    return ": a Boolean, Integer or enumeration parameter is part of the model's structure; change it in "
+           "the model";
+  if (v.binding) return ": it is bound to other parameters' values; set those";
+  return {};
+}
+
+std::vector<double> parameters(const runtime::ModelInfo& info, const frontend::flat::Model& flat,
+                               const Options& opt) {
   std::vector<double> p = info.default_parameters();
   for (const auto& s : opt.sets) {
     auto [name, value] = split_assignment(s, "--set");
     const auto k = info.parameter_index(name);
-    if (!k) throw UsageError("--set: the model has no parameter '" + name + "'");
+    if (!k) throw UsageError("--set: the model has no parameter '" + name + "'" + why_not_a_parameter(flat, name));
     p[*k] = number(value, "--set " + s);
   }
   return p;
@@ -200,7 +219,7 @@ int run(const Options& opt, tools::RunContext& ctx) {
   const auto& compiled = built.compiled;
   runtime::Model* model = built.model.get();
   const runtime::ModelInfo& info = model->info();
-  const std::vector<double> p = parameters(info, opt);
+  const std::vector<double> p = parameters(info, *flat, opt);
   runtime::SimulationOptions so;
   so.relative_tolerance = opt.rtol;
   so.absolute_tolerance = opt.atol;

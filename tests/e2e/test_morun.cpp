@@ -54,6 +54,29 @@ TEST_CASE("morun: an unknown parameter in --set fails with a message and writes 
   CHECK_FALSE(fs::exists(out));
 }
 
+TEST_CASE("morun: --set of a structural or bound parameter says why it cannot be set") {
+  // EvaluatedCapacitance.mo: CapVal has Evaluate = true, C = CapVal is bound.
+  struct Case {
+    std::string set, why;
+  };
+  const std::vector<Case> cases{
+      {"CapVal=1", "'CapVal': annotation(Evaluate = true) made its value part of the model's structure"},
+      {"C=1", "'C': it is bound to other parameters' values; set those"},
+      {"v=1", "'v': it is a variable, not a parameter"},
+  };
+  int k = 0;
+  for (const Case& c : cases) {
+    CAPTURE(c.set);
+    const fs::path dir = scratch("morun_structural_set" + std::to_string(k++));
+    const Run r = morun(quoted(kData + "EvaluatedCapacitance.mo") + " --stop-time 1 --set " + c.set + " -o " +
+                            quoted((dir / "out").string()),
+                        dir);
+    CHECK(r.status == 2);
+    CHECK(r.err.find("--set: the model has no parameter " + c.why) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "out"));
+  }
+}
+
 TEST_CASE("morun: a syntax error gives file.mo:line:col: error: and leaves earlier results untouched") {
   const fs::path dir = scratch("morun_syntax");
   const fs::path bad = dir / "Broken.mo";
