@@ -194,8 +194,10 @@ TEST_CASE("Evaluate = true on a record parameter covers its fields: Cj = 0 leave
                               {{kData + "EvaluatedCard.mo", "EvaluatedCard.Circuit", {}, true}, {}});
   REQUIRE(model->info().states.size() == 1);
   CHECK(model->info().states[0].name == "v");
-  for (const auto& q : model->info().parameters) CHECK(q.name.rfind("card.", 0) != 0);
-  for (const auto& q : model->info().parameters) CHECK(q.name.rfind("junction.", 0) != 0);
+  for (const auto& q : model->info().parameters) {
+    CHECK(q.name.rfind("card.", 0) != 0);
+    CHECK(q.name.rfind("junction.", 0) != 0);
+  }
   simulate_against_exact(*model, runtime::OutputGrid::uniform(0, 2, 20), "v",
                          [](double t) { return std::exp(-t / (0.5 * (1 + 3))); }, 1e-7);
 }
