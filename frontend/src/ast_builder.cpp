@@ -163,6 +163,8 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
       for (auto *note : eq->annotation()) // a class annotation written last lands here
         vendor_annotation(note, cls);
     } else if (auto *alg = dynamic_cast<P::Algorithm_sectionContext *>(child)) {
+      for (auto *note : alg->annotation()) // a class annotation written last lands here
+        vendor_annotation(note, cls);
       auto section = statements(alg->statement());
       auto &target = alg->INITIAL() ? cls.initial_equations : cls.equations;
       if (cls.restriction != Restriction::Function) {
@@ -186,11 +188,14 @@ void AstBuilder::composition(P::CompositionContext *ctx, ClassDef &cls) {
   }
 }
 
-/// Keeps the arguments of `__mocompile(...)` from a class annotation; the
-/// rest of the annotation is not read.
+/// Keeps the arguments of `__mocompile(...)` and `GenerateEvents` from a
+/// class annotation; the rest of the annotation is not read.
 void AstBuilder::vendor_annotation(P::AnnotationContext *ctx, ClassDef &cls) {
   Modification m = class_modification(ctx->class_modification());
   for (auto &arg : m.args) {
+    if (arg.path.size() == 1 && arg.path[0] == "GenerateEvents" && arg.mod.binding &&
+        arg.mod.binding->kind == ExprKind::Boolean)
+      cls.generate_events = arg.mod.binding->number != 0.0;
     if (arg.path.size() != 1 || arg.path[0] != "__mocompile")
       continue;
     for (auto &inner : arg.mod.args)

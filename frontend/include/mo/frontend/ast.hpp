@@ -283,6 +283,9 @@ struct ClassDef {
   /// The arguments of `annotation(__mocompile(...))` in the class's own
   /// annotations (study options); other annotations are ignored.
   Modification vendor_annotation;
+  /// `annotation(GenerateEvents = true)` of a function: the relations of its
+  /// body generate events when inlined; without it they do not (since MLS 3.2r2).
+  bool generate_events = false;
 
   std::vector<ClassPtr> classes;
   std::vector<Component> components;
