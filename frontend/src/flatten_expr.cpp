@@ -465,7 +465,13 @@ Tensor Flattener::expr(const Expr &e, const Scope &s) {
     Tensor a = expr(*e.args[0], s), b = expr(*e.args[1], s);
     if (a.record || b.record)
       return binary_on_records(e, std::move(a), std::move(b));
-    return binary(*this, e.op, std::move(a), std::move(b), e.range);
+    Tensor t = binary(*this, e.op, std::move(a), std::move(b), e.range);
+    const bool relation = e.op == Op::Lt || e.op == Op::Le || e.op == Op::Gt || e.op == Op::Ge;
+    if (relation && no_event_depth_ > 0) // a function's own relation (see no_event_depth_)
+      for (ExprPtr &x : t.elems)
+        if (!of_literals(*x))
+          x = ast::make_call1("noEvent", std::move(x), e.range);
+    return t;
   }
   default:
     return expr_node(e, s);

@@ -239,8 +239,19 @@ std::vector<std::size_t> selection(Flattener &f, const std::vector<ExprPtr> &sub
   return out;
 }
 
-/// True if `e` is a Boolean by its top operation (a literal, a relation, and/or/not).
-bool is_boolean_valued(const Expr &e) {
+/// `e` without the noEvent() calls around it: a function's relations are
+/// wrapped (Flattener::no_event_depth_), and its decisions read through them.
+const Expr &without_no_event(const Expr &e) {
+  const Expr *x = &e;
+  while (x->kind == ExprKind::Call && x->args.size() == 1 && x->ref.is_simple() && x->ref.parts[0].name == "noEvent")
+    x = x->args[0].get();
+  return *x;
+}
+
+/// True if `e` is a Boolean by its top operation (a literal, a relation,
+/// and/or/not), through noEvent().
+bool is_boolean_valued(const Expr &e0) {
+  const Expr &e = without_no_event(e0);
   if (e.kind == ExprKind::Boolean)
     return true;
   if (e.kind == ExprKind::Unary)
@@ -315,7 +326,8 @@ bool atom_plus_offset(Flattener &f, const Expr &e, std::string &atom, double &of
 
 /// A relation `atom + c op d` (or `d op atom + c`) as (atom, op, d - c) with
 /// the atom on the left; false for other expressions.
-bool bound_form(Flattener &f, const Expr &c, std::string &atom, Op &op, double &value) {
+bool bound_form(Flattener &f, const Expr &c0, std::string &atom, Op &op, double &value) {
+  const Expr &c = without_no_event(c0);
   if (c.kind != ExprKind::Binary || !(c.op == Op::Lt || c.op == Op::Le || c.op == Op::Gt || c.op == Op::Ge))
     return false;
   double offset = 0;
@@ -367,39 +379,40 @@ int known_value(Flattener &f, const Expr &c, const Decisions &decisions) {
   std::vector<std::pair<const Expr *, bool>> work{{&c, false}};
   std::map<const Expr *, int> value;
   while (!work.empty()) {
-    auto [e, expanded] = work.back();
+    auto [e0, expanded] = work.back();
     work.pop_back();
+    const Expr *e = &without_no_event(*e0);
     const bool connective = (e->kind == ExprKind::Binary && (e->op == Op::And || e->op == Op::Or)) ||
                             (e->kind == ExprKind::Unary && e->op == Op::Not);
     if (!connective) {
       if (is_literal(*e) || literals_only(*e)) {
-        value[e] = f.eval(*e, e->range) != 0;
+        value[e0] = f.eval(*e, e->range) != 0;
       } else {
         auto it = known.find(print_expr(*e));
-        value[e] = it == known.end() ? bounded_value(f, *e, decisions) : it->second;
+        value[e0] = it == known.end() ? bounded_value(f, *e, decisions) : it->second;
       }
       continue;
     }
     if (!expanded) {
-      work.emplace_back(e, true);
+      work.emplace_back(e0, true);
       for (const auto &a : e->args)
         work.emplace_back(a.get(), false);
       continue;
     }
     if (e->kind == ExprKind::Unary) {
       const int a = value[e->args[0].get()];
-      value[e] = a < 0 ? -1 : 1 - a;
+      value[e0] = a < 0 ? -1 : 1 - a;
       continue;
     }
     const int a = value[e->args[0].get()], b = value[e->args[1].get()];
     const int absorbing = e->op == Op::And ? 0 : 1;
     if (a == absorbing || b == absorbing)
-      value[e] = absorbing;
+      value[e0] = absorbing;
     else if (a >= 0 && b >= 0)
-      value[e] = 1 - absorbing;
+      value[e0] = 1 - absorbing;
     else {
       auto it = known.find(print_expr(*e));
-      value[e] = it == known.end() ? -1 : it->second;
+      value[e0] = it == known.end() ? -1 : it->second;
     }
   }
   return value[&c];
@@ -571,7 +584,8 @@ private:
   /// Records `c` = `outcome`, and for a relation also its complement
   /// (`a >= b` false: `a < b` true), which the other branch of the `if`
   /// around a loop tests.
-  void learn(const Expr &c, bool outcome) {
+  void learn(const Expr &c0, bool outcome) {
+    const Expr &c = without_no_event(c0);
     decisions_.known[print_expr(c)] = outcome;
     if (c.kind != ExprKind::Binary)
       return;
@@ -1147,6 +1161,37 @@ std::vector<Tensor> inline_path(Flattener &f, ClassNode *fn, const Signature &si
   return out;
 }
 
+/// True if every scalar of type `type` (declared in `owner`) is a Real,
+/// records through their fields. A type that does not resolve is reported.
+bool all_real(Flattener &f, ClassNode *owner, const ast::TypeName &type, SourceRange where, unsigned depth = 0) {
+  ResolvedType rt;
+  if (depth > 32)
+    return false;
+  if (!f.resolve_type(owner, type, rt))
+    throw Reported{};
+  if (rt.is_enumeration)
+    return false;
+  if (rt.is_builtin)
+    return rt.builtin == flat::BaseType::Real;
+  if (!rt.cls || !is_record_class(rt.cls))
+    return false;
+  const std::shared_ptr<const RecordLayout> layout = f.record_layout(rt.cls, where);
+  return std::all_of(layout->fields.begin(), layout->fields.end(), [&](const RecordLayout::Field &field) {
+    return field.decl && all_real(f, field.owner, field.decl->type, where, depth + 1);
+  });
+}
+
+/// True if the relations in `fn`'s body generate no events (Modelica's
+/// annotation GenerateEvents): unless `fn` asks for them, or an output is an
+/// Integer, Boolean or enumeration, which only an event may change.
+bool without_events(Flattener &f, ClassNode *fn, const Signature &sig) {
+  if (fn->def->generate_events)
+    return false;
+  return std::all_of(sig.outputs.begin(), sig.outputs.end(), [&](const auto &output) {
+    return all_real(f, output.second, output.first->type, output.first->range);
+  });
+}
+
 constexpr std::size_t kMaxPaths = 4096;
 
 /// Runs `fn`'s algorithm once per way through its varying decisions (a
@@ -1438,11 +1483,13 @@ std::vector<Tensor> Flattener::inline_or_evaluate(ClassNode *fn, const Signature
                                                   std::vector<Tensor> arguments, const Expr &call,
                                                   std::size_t wanted) {
   const std::string fn_name = fn->path();
-  ++function_depth_;
   struct DepthGuard {
     unsigned &d;
-    ~DepthGuard() { --d; }
-  } guard{function_depth_};
+    unsigned step;
+    ~DepthGuard() { d -= step; }
+  } guard{function_depth_, 1}, events{no_event_depth_, without_events(*this, fn, sig) ? 1u : 0u};
+  function_depth_ += guard.step;
+  no_event_depth_ += events.step;
   const auto report = [&](const InlineUnsupported &u) {
     fail(DiagId::Unsupported, u.range, "cannot inline function '" + fn_name + "': " + u.what);
   };

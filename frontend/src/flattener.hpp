@@ -555,6 +555,10 @@ public:
   Tensor record_defaults(const std::shared_ptr<const RecordLayout> &layout, const std::vector<int> &dims,
                          SourceRange where);
   unsigned function_depth_ = 0;
+  /// Functions being inlined whose relations generate no events (those
+  /// without `GenerateEvents = true` whose outputs are all Real): while it is
+  /// non-zero, expr() wraps each relation it builds in noEvent().
+  unsigned no_event_depth_ = 0;
   std::set<std::pair<Instance *, ClassNode *>> inherited_; ///< bases instantiated per instance
   std::set<std::pair<const Instance *, std::string>> disabled_; ///< conditional components switched off
 

@@ -278,3 +278,38 @@ TEST_CASE("a sliding mode ends the run as chattering, naming its indicator (Slid
   const auto x = column(r.trajectory, "x");
   for (std::size_t k = 0; k < x.size(); ++k) CHECK(x[k] == Approx(std::max(0.0, 1 - times[k])).margin(1e-6));
 }
+
+TEST_CASE("relations inside a function generate no events unless asked for (FunctionEvents)", "[events]") {
+  auto model = compiled_model("e2e_function_events", {{kData + "FunctionEvents.mo", "", {}, true}, {}});
+  const auto& texts = model->info().indicator_text;
+  // Event indicators: the Boolean function's, the GenerateEvents one's and
+  // the caller's argument's; none of halfWave's or split's sin(w t).
+  REQUIRE(texts.size() == 3);
+  CHECK(texts[0] == "sin(6.283185307179586*time) - 0.5");
+  CHECK(texts[1] == "time - 0.25");
+  CHECK(texts[2] == "cos(6.283185307179586*time)");
+  const auto r = runtime::simulate(*model, {}, model->info().default_parameters(),
+                                   runtime::OutputGrid::uniform(0, 2.2, 220), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  for (const double k : {0.0, 1.0, 2.0}) CHECK(has_event_near(r.event_times, k + 1.0 / 12, 1e-8));  // on rises
+  for (const double k : {0.0, 1.0}) CHECK(has_event_near(r.event_times, k + 5.0 / 12, 1e-8));       // and falls
+  // F(t) = the integral of max(sin(2 pi s), 0) from 0 to t.
+  const double pi = 3.141592653589793, w = 2 * pi;
+  const auto F = [&](double t) {
+    const double k = std::floor(t), rest = t - k;
+    return k / pi + (rest < 0.5 ? (1 - std::cos(w * rest)) / w : 2 / w);
+  };
+  const auto& times = r.trajectory.times();
+  const auto x = column(r.trajectory, "x"), xn = column(r.trajectory, "xn");
+  const auto xe = column(r.trajectory, "xe"), xl = column(r.trajectory, "xl");
+  for (std::size_t i = 0; i < times.size(); ++i) {
+    const double t = times[i];
+    INFO("t = " << t);
+    CHECK(x[i] == Approx(F(t)).margin(1e-6));
+    CHECK(xn[i] == Approx((1 - std::cos(w * t)) / w - F(t)).margin(1e-6));
+    CHECK(xe[i] == Approx(F(t + 0.25) - F(0.25)).margin(1e-6));
+    CHECK(xl[i] == Approx(F(std::max(t, 0.25)) - F(0.25)).margin(1e-6));
+  }
+  CHECK(discrete_value(*model, "n") == 3.0);  // on at 1/12, 13/12, 25/12
+}

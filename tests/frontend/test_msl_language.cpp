@@ -246,7 +246,50 @@ TEST_CASE("if statements become if-expressions, constant ones pick a branch", "[
       z = clip(time, 1);
     end Use;)";
   CHECK(value(src, "c") == 2);
-  CHECK(contains(flat(src), "z = if time > 1 then 1 else if time < -1 then -1 else time;"));
+  // Relations in a function's body generate no events (no GenerateEvents).
+  CHECK(contains(flat(src), "z = if noEvent(time > 1) then 1 else if noEvent(time < -1) then -1 else time;"));
+}
+
+TEST_CASE("a function's relations are noEvent unless it generates events or returns a discrete value",
+          "[msl][functions]") {
+  const char *src = R"(
+    function ramp
+      input Real u;
+      output Real y;
+    algorithm
+      y := if u > 0 then u else 0;
+    end ramp;
+    function twice "calls ramp: no events either"
+      input Real u;
+      output Real y;
+    algorithm
+      y := 2 * ramp(u - 1);
+    end twice;
+    function rampEvents
+      input Real u;
+      output Real y;
+    algorithm
+      y := if u > 0 then u else 0;
+      annotation(GenerateEvents = true);
+    end rampEvents;
+    function steps "an Integer output: events"
+      input Real u;
+      output Integer n;
+    algorithm
+      n := if u > 1 then 2 else 1;
+    end steps;
+    model Use
+      Real a = ramp(if time > 3 then time else 0);
+      Real b = twice(time);
+      Real c = rampEvents(time);
+      Integer n = steps(time);
+    end Use;)";
+  const std::string s = flat(src);
+  INFO(s);
+  CHECK(contains(s, "a = if noEvent((if time > 3 then time else 0) > 0) then if time > 3 then time else 0 else 0;"));
+  CHECK(contains(s, "b = 2 * (if noEvent(time - 1 > 0) then time - 1 else 0);"));
+  CHECK(contains(s, "c = if time > 0 then time else 0;"));
+  CHECK(contains(s, "n = if time > 1 then 2 else 1;"));
 }
 
 TEST_CASE("for loops are unrolled, while loops run on constants, several outputs", "[msl][functions]") {
@@ -870,9 +913,11 @@ TEST_CASE("while, return and break on varying conditions become if-expressions o
   // the backward loop's `time < 1` is known from the `if`.
   CHECK(contains(s, "z = if time >= 1 then 1 + (4 - 1) * (time - 1) / (2 - 1) else 0 + (1 - 0) * (time - 0) / (1 - 0);"));
   CHECK(contains(s, "j = if time >= 1 then 2 else 1;"));
-  // Where time > 1 is false, time > 2 is too (the bounds of `time` on that way).
+  // Integer outputs keep their events. Where time > 1 is false, time > 2 is
+  // too (the bounds of `time` on that way).
   CHECK(contains(s, "k = if time > 1 then 1 else if time > 0.5 then 3 else 0;"));
-  CHECK(contains(s, "w = if time < 1 then 0 else if time < 2 then 1 else if time < 3 then 3 else 6;"));
+  // A Real output: no events, and the decisions still read the relations' bounds.
+  CHECK(contains(s, "w = if noEvent(time < 1) then 0 else if noEvent(time < 2) then 1 else if noEvent(time < 3) then 3 else 6;"));
 }
 
 TEST_CASE("a function's array indexed by a varying Integer selects by an if-expression", "[msl][functions]") {
