@@ -179,7 +179,8 @@ json multistart_json(const MultistartResult& m, const MultistartSettings& settin
   for (const auto& s : m.starts) converged += s.converged ? 1 : 0;
   return {{"starts", m.starts.size()},
           {"converged", converged},
-          {"best_start", m.best_start + 1},
+          {"best_start", m.optima.empty() && m.starts[m.best_start].status == "error" ? json(nullptr)
+                                                                                   : json(m.best_start + 1)},
           {"reached_best", m.optima.empty() ? 0 : m.optima.front().starts.size()},
           {"cluster_tol", settings.cluster_tol},
           {"local_optima", optima},

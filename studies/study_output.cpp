@@ -187,6 +187,14 @@ std::map<std::size_t, std::shared_ptr<const runtime::InputSignal>> experiment_in
   return out;
 }
 
+void write_error_summary(const std::string& dir, const runtime::ModelInfo& info, const std::string& message,
+                         const json& extra) {
+  fs::create_directories(dir);
+  json summary{{"status", "error"}, {"message", message}, {"model", info.name}};
+  for (const auto& [key, value] : extra.items()) summary[key] = value;
+  write_json((fs::path(dir) / "summary.json").string(), summary);
+}
+
 void write_optimization_outputs(const std::string& dir, const runtime::ModelInfo& info,
                                 const runtime::OptimalControlProblem& problem,
                                 const runtime::OptimizationResult& result, const json& extra) {

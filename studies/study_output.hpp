@@ -48,6 +48,12 @@ void write_optimization_outputs(const std::string& dir, const runtime::ModelInfo
                                 const runtime::OptimizationResult& result,
                                 const nlohmann::json& extra);
 
+/// summary.json of a study that ended without a result: `status` "error",
+/// `message` saying why, the model's name and `extra` merged in (a
+/// multistart's table of starts); the folder is created if missing.
+void write_error_summary(const std::string& dir, const runtime::ModelInfo& info, const std::string& message,
+                         const nlohmann::json& extra);
+
 /// The design-specific part of summary.json: criterion, parameters, Fisher
 /// matrices (collocation and re-simulated), information per start.
 nlohmann::json design_json(const runtime::ModelInfo& info, const runtime::InputDesignProblem& d,

@@ -230,10 +230,16 @@ int design_with_events(frontend::flat::Model& flat, const StudyCli& cli, StudyOp
     if (!mpi_world().root()) return 0;
     best = solve_event_design(s, ode, e, guess_of(starts[0]), "", false);
     if (best.refusal) return refuse_phases(flat, *best.refusal, diags);
-    if (!best.error.empty()) {
-      std::cerr << "morun: error: " << best.error << "\n";
-      return 1;
+  }
+  if (!best.error.empty()) {  // no result: the summary says why (for each start)
+    nlohmann::json extra;
+    if (multi) {
+      extra["design"]["multistart"] = multistart_json(*multi, settings);
+      print_multistart(std::cerr, *multi, s.opt.criterion, settings);
     }
+    write_error_summary(cli.output, info, best.error, extra);
+    std::cerr << "morun: error: " << best.error << "\n";
+    return 1;
   }
   runtime::OptimalControlProblem Pphys = e.Pphys;
   Pphys.collocation.n_e = static_cast<int>(best.result.optimization.element_times.size()) - 1;

@@ -102,8 +102,10 @@ std::optional<MultistartResult> event_design_multistart(
                                         o.information_collocation > m.starts[*chosen].information_collocation);
     if (has_result && (!chosen || better)) chosen = k;
   }
-  if (!chosen)
-    throw std::runtime_error(fmt::format("no start of the design gave a result (start 1: {})", m.starts[0].error));
+  if (!chosen) {  // the table of starts says why each failed
+    best.error = fmt::format("no start of the design gave a result (start 1: {})", m.starts[0].error);
+    return m;
+  }
   const json& j = results[*chosen];
   best.result = design_result_from_json(j.at("result"));
   best.status = j.at("status").get<std::string>();

@@ -225,6 +225,32 @@ TEST_CASE("friction: a multistart design solves every start through its own mode
   CHECK(r.err.find("multistart: 4 starts") != std::string::npos);
 }
 
+TEST_CASE("friction: a multistart design whose every start fails still writes its table of starts",
+          "[events][studies][design][multistart]") {
+  // Fc = 2 above the largest force 1.5: the mass sticks at v = 0, a sliding
+  // mode that no start's guess simulates through. The summary says why for
+  // each start; there is no design to write.
+  const fs::path dir = scratch("event_design_multistart_fails");
+  const Run r = morun(quoted(kData + "FrictionDesign.mop") + " --option starts=2 --set Fc=2 -o " +
+                          quoted((dir / "out").string()),
+                      dir);
+  INFO(r.err);
+  CHECK(r.status == 1);
+  CHECK(r.err.find("multistart: 3 starts, 0 converged") != std::string::npos);
+  const json s = summary(dir / "out");
+  CHECK(s["status"] == "error");
+  CHECK_THAT(s["message"].get<std::string>(), Catch::StartsWith("no start of the design gave a result (start 1: "));
+  const json& ms = s["design"]["multistart"];
+  CHECK(ms["best_start"].is_null());
+  CHECK(ms["converged"] == 0);
+  REQUIRE(ms["per_start"].size() == 3);
+  for (const json& st : ms["per_start"]) {
+    CHECK(st["status"] == "error");
+    CHECK_THAT(st["error"].get<std::string>(), Catch::StartsWith("the simulation of the guess failed: "));
+  }
+  CHECK_FALSE(fs::exists(dir / "out" / "designed_input.csv"));
+}
+
 TEST_CASE("sample() ticks that kick the oscillator: the design's Fisher matrix equals finite differences",
           "[events][studies][design]") {
   // Three ticks inside the horizon are timed switches: fixed times, the
