@@ -242,6 +242,10 @@ void Flattener::finish_connections() {
     diags_.report(DiagId::Unsupported, model_->variables[static_cast<std::size_t>(impure_vars_[0])].range,
                   "the impure random generator is drawn from, but never initialised (initializeImpureRandom)");
   if (!diags_.has_errors()) {
+    std::vector<std::vector<std::int32_t>> ordered;
+    for (std::int32_t root : order)
+      ordered.push_back(std::move(sets[root]));
+    semilinear_connections(ordered);
     drop_repeated_equations();
     when_assignments_to_reinits();
     mark_free_inputs();

@@ -734,6 +734,10 @@ public:
   /// A simple equation identical to an earlier one (either side order) is
   /// dropped with a warning (flatten_repeated.cpp).
   void drop_repeated_equations();
+  /// semiLinear() at zero flow on a connection of two components (MLS
+  /// 3.7.2.5, rule 1): the first one's flow equation becomes the one for the
+  /// shared potential (flatten_semilinear.cpp). `sets`: the connection sets.
+  void semilinear_connections(const std::vector<std::vector<std::int32_t>> &sets);
   /// Inputs no equation defines become inputs of the model (flatten_free_inputs.cpp).
   void mark_free_inputs();
   /// `v = e` in a when-clause with der(v) elsewhere becomes reinit(v, e) (flatten_free_inputs.cpp).
