@@ -85,12 +85,18 @@ ClassPtr AstBuilder::class_definition(P::Class_definitionContext *ctx) {
     auto ids = lc->IDENT();
     cls->name = ident(ids.front());
     cls->range = range(ids.front());
-    if (lc->EXTENDS()) {
-      diags_.report(DiagId::Unsupported, range(lc->EXTENDS()),
-                    "'extends' class specifiers (class extension by redeclaration) are not supported");
-    }
-    if (lc->class_modification())
+    if (lc->EXTENDS()) { // `redeclare model extends M(mods)`: M extends the inherited M
+      Extends base;
+      base.base.parts.push_back(cls->name);
+      base.base.range = cls->range;
+      base.range = range(lc->EXTENDS());
+      base.inherited_class = true;
+      if (lc->class_modification())
+        base.mod = class_modification(lc->class_modification());
+      cls->extends.push_back(std::move(base));
+    } else if (lc->class_modification()) {
       cls->class_mod = class_modification(lc->class_modification());
+    }
     cls->description = string_comment(lc->string_comment());
     composition(lc->composition(), *cls);
     std::string end_name = ident(ids.back());
@@ -230,6 +236,10 @@ void AstBuilder::element(P::ElementContext *ctx, ClassDef &cls, bool is_protecte
     nested->is_protected = is_protected;
     nested->replaceable = ctx->REPLACEABLE() != nullptr;
     nested->redeclare = ctx->REDECLARE() != nullptr;
+    // A class extension replaces the inherited class (MLS 7.3.1), with or
+    // without the `redeclare` written.
+    for (const auto &e : nested->extends)
+      nested->redeclare = nested->redeclare || e.inherited_class;
     cls.classes.push_back(std::move(nested));
     return;
   }

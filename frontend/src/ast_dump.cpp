@@ -32,7 +32,8 @@ public:
       line(depth + 1, s);
     }
     for (auto &e : c.extends)
-      line(depth + 1, "extends " + e.base.str() + (e.mod.empty() ? "" : mod(e.mod)));
+      line(depth + 1, std::string(e.inherited_class ? "extends inherited " : "extends ") + e.base.str() +
+                          (e.mod.empty() ? "" : mod(e.mod)));
     for (auto &n : c.classes) cls(*n, depth + 1);
     for (auto &comp : c.components) component(comp, depth + 1);
     section("equation", c.equations, depth + 1);

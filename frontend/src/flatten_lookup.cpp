@@ -81,15 +81,47 @@ static bool predefined_enumeration(const std::string &n) {
   return n == "StateSelect" || n == "AssertionLevel";
 }
 
+ClassNode *Flattener::extends_base(ClassNode *cls, const ast::Extends &ext) {
+  if (ext.inherited_class) { // the class of that name a base of the enclosing class has
+    if (!cls->parent || !cls->parent->def)
+      return nullptr;
+    for (const auto &outer : cls->parent->def->extends) {
+      ClassNode *b = extends_base(cls->parent, outer);
+      if (b && b != cls->parent)
+        if (ClassNode *found = find_member_class(b, ext.base.parts[0]); found && found != cls)
+          return found;
+    }
+    return nullptr;
+  }
+  // Base names are looked up in the enclosing scope of the class: a class
+  // cannot extend one of its own (inherited) members.
+  return lookup_class(extends_scope(cls, ext, &lib_.root), ext.base.parts, ext.base.global, ext.base.range, false);
+}
+
 std::vector<std::pair<const ast::Extends *, ClassNode *>> Flattener::bases(ClassNode *cls, bool report) {
   std::vector<std::pair<const ast::Extends *, ClassNode *>> out;
   if (!cls || !cls->def)
     return out;
   for (const auto &ext : cls->def->extends) {
-    // Base names are looked up in the enclosing scope of the class: a class
-    // cannot extend one of its own (inherited) members.
-    ClassNode *base = lookup_class(extends_scope(cls, ext, &lib_.root), ext.base.parts,
-                                   ext.base.global, ext.base.range, false);
+    if (ext.inherited_class && cls->parent && cls->parent->def &&
+        cls->parent->def->restriction == ast::Restriction::Package) {
+      // What the package inherits would still see the class it replaces
+      // (a redeclared class is seen by the instance that replaced it only).
+      if (report)
+        diags_.report(DiagId::Unsupported, ext.range,
+                      "class extension '" + cls->name + "' inside package '" + cls->parent->path() +
+                          "' is not supported (the classes the package inherits would not see it)");
+      continue;
+    }
+    ClassNode *base = extends_base(cls, ext);
+    if (!base && ext.inherited_class) {
+      if (report)
+        diags_.report(DiagId::UnknownClass, ext.range,
+                      "class extension '" + cls->name + "': " +
+                          (cls->parent ? "no base of '" + cls->parent->path() + "' has a class '" + cls->name + "'"
+                                       : std::string("it is not inside a class")));
+      continue;
+    }
     if (!base) {
       flat::BaseType t;
       if (ext.base.parts.size() == 1 && builtin_type(ext.base.parts[0], t))
@@ -132,8 +164,7 @@ ClassNode *Flattener::find_member_class(ClassNode *cls, const std::string &name,
     if (ClassNode *base = lookup_class(cls->parent, sb->parts, sb->global, sb->range, false); base && base != cls)
       return find_member_class(base, name, depth + 1);
   for (const auto &ext : cls->def->extends) {
-    ClassNode *base = lookup_class(extends_scope(cls, ext, &lib_.root), ext.base.parts,
-                                   ext.base.global, ext.base.range, false);
+    ClassNode *base = extends_base(cls, ext);
     if (base && base != cls)
       if (ClassNode *found = find_member_class(base, name, depth + 1))
         return found;

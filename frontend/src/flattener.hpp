@@ -298,6 +298,10 @@ public:
   /// The bases of `cls` (its `extends`), resolved; reports unknown bases
   /// unless `report` is false (a search that only probes enclosing classes).
   std::vector<std::pair<const ast::Extends *, ClassNode *>> bases(ClassNode *cls, bool report = true);
+  /// The class `ext` of `cls` names, or null: looked up in the enclosing
+  /// scope, or for a class extension (`model extends M`) the M that a base
+  /// of the enclosing class has.
+  ClassNode *extends_base(ClassNode *cls, const ast::Extends &ext);
   /// The default record class `cls` gives its field `c` (declared in
   /// `owner`), and the class it is read in: an extends modifier on the way
   /// from cls to owner (the most derived first), else c's own binding.

@@ -177,6 +177,9 @@ struct Extends {
   Modification mod;
   SourceRange range;
   bool is_protected = false;
+  /// The implied base of a class extension `model extends M(...) ... end M;`
+  /// (MLS 7.3.1): the class M that the enclosing class inherits.
+  bool inherited_class = false;
 };
 
 struct Import {
