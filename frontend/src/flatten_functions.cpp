@@ -44,13 +44,6 @@ constexpr long kMaxWhileIterations = 100'000;
 /// Varying conditions met on one way through a function's algorithm.
 constexpr std::size_t kMaxDecisions = 128;
 
-FunctionLocals clone_locals(const FunctionLocals &values) {
-  FunctionLocals out;
-  for (const auto &[name, t] : values)
-    out.emplace(name, clone_tensor(t));
-  return out;
-}
-
 bool is_literal(const Expr &e) {
   return e.kind == ExprKind::Real || e.kind == ExprKind::Integer || e.kind == ExprKind::Boolean;
 }
@@ -418,6 +411,19 @@ int known_value(Flattener &f, const Expr &c, const Decisions &decisions) {
   return value[&c];
 }
 
+/// Adds to `out` the first name of each target that `body` assigns, nested
+/// statements included: the locals an `if` on a varying condition can change.
+void assigned_names(const std::vector<Statement> &body, std::set<std::string> &out) {
+  for (const Statement &st : body) {
+    for (const auto &t : st.targets)
+      if (t && t->kind == ExprKind::Ref && !t->ref.parts.empty())
+        out.insert(t->ref.parts[0].name);
+    assigned_names(st.body, out);
+    for (const auto &b : st.branches)
+      assigned_names(b.body, out);
+  }
+}
+
 /// True if `body` holds a `return`, a `while`, or a `break` that leaves the
 /// loop enclosing `body` (not one of a loop inside it); iterative.
 bool has_jump(const std::vector<Statement> &body) {
@@ -718,20 +724,34 @@ private:
         exec_if(branches, i + 1);
       return;
     }
-    FunctionLocals before = clone_locals(values);
+    // Only the locals the branches assign can differ between them: those are
+    // copied before the first branch and merged after the last (copying and
+    // comparing all of them, device records included, took minutes on
+    // Spice3's larger circuits).
+    std::set<std::string> assigned;
+    for (std::size_t k = i; k < branches.size(); ++k)
+      assigned_names(branches[k].body, assigned);
+    FunctionLocals before;
+    for (const std::string &name : assigned)
+      if (auto it = values.find(name); it != values.end())
+        before.emplace(name, clone_tensor(it->second));
     const auto bounds_before = decisions_.bounds; // facts in a branch hold only there
     exec(b.body);
     decisions_.bounds = bounds_before;
     if (returned_ || broke_)
       unsupported(b.range, "'return' or 'break' under a condition that varies in time");
-    FunctionLocals then_values = std::move(values);
-    values = std::move(before);
+    FunctionLocals then_values;
+    for (auto &[name, t] : before) {
+      Tensor &now = values.at(name);
+      then_values.emplace(name, std::move(now));
+      now = std::move(t);
+    }
     exec_if(branches, i + 1);
     decisions_.bounds = bounds_before;
     if (returned_ || broke_)
       unsupported(b.range, "'return' or 'break' under a condition that varies in time");
-    for (auto &[name, t] : values) {
-      Tensor &a = then_values.at(name);
+    for (auto &[name, a] : then_values) {
+      Tensor &t = values.at(name);
       if (a.dims != t.dims)
         unsupported(b.range, "'" + name + "' gets arrays of different sizes in the branches of an if");
       for (std::size_t k = 0; k < t.elems.size(); ++k) {

@@ -141,6 +141,19 @@ std::vector<std::pair<const ast::Extends *, ClassNode *>> Flattener::bases(Class
 ClassNode *Flattener::find_member_class(ClassNode *cls, const std::string &name, unsigned depth) {
   if (!cls)
     return nullptr;
+  if (depth > 0)
+    return search_member_class(cls, name, depth);
+  std::pair<ClassNode *, std::string> key{cls, name};
+  if (auto hit = member_cache_.find(key); hit != member_cache_.end())
+    return hit->second;
+  const unsigned long cuts = member_search_cuts_;
+  ClassNode *found = search_member_class(cls, name, 0);
+  if (cuts == member_search_cuts_)
+    member_cache_.emplace(std::move(key), found);
+  return found;
+}
+
+ClassNode *Flattener::search_member_class(ClassNode *cls, const std::string &name, unsigned depth) {
   auto it = cls->children.find(name);
   if (it != cls->children.end() && it->second->def)
     return it->second.get();
@@ -148,13 +161,15 @@ ClassNode *Flattener::find_member_class(ClassNode *cls, const std::string &name,
     return loaded;
   if (it != cls->children.end())
     return it->second.get(); // an implied package from `within`
-  if (depth > 32 || !cls->def)
+  if (!cls->def)
     return nullptr;
   // Looking up a base's name can come back to this very search (a base
   // named like the member sought, found through enclosing scopes): that
   // path finds nothing.
-  if (!member_searches_.insert({cls, name}).second)
+  if (depth > 32 || !member_searches_.insert({cls, name}).second) {
+    ++member_search_cuts_;
     return nullptr;
+  }
   struct Done {
     std::set<std::pair<ClassNode *, std::string>> &set;
     std::pair<ClassNode *, std::string> key;

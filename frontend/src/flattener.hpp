@@ -290,7 +290,19 @@ public:
   ClassNode *lookup_class(ClassNode *scope, const std::vector<std::string> &parts, bool global,
                           SourceRange where, bool report = true);
   ClassNode *find_member_class(ClassNode *cls, const std::string &name, unsigned depth = 0);
+  ClassNode *search_member_class(ClassNode *cls, const std::string &name, unsigned depth);
   std::set<std::pair<ClassNode *, std::string>> member_searches_; ///< in progress in find_member_class
+  /// Searches cut short (a search met again, or too deep): a result found
+  /// while one was cut may differ from a fresh search's, and is not cached.
+  unsigned long member_search_cuts_ = 0;
+  struct MemberKeyHash {
+    std::size_t operator()(const std::pair<ClassNode *, std::string> &k) const {
+      return std::hash<const void *>()(k.first) ^ (std::hash<std::string>()(k.second) * 31u);
+    }
+  };
+  /// find_member_class's answers (null: no such member), by class and name:
+  /// the class tree only grows by the loads those searches make themselves.
+  std::unordered_map<std::pair<ClassNode *, std::string>, ClassNode *, MemberKeyHash> member_cache_;
   /// The type `type` names in class `scope`; a first name that `in` (the
   /// instance being built) has replaced by a redeclaration resolves there.
   bool resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out,
