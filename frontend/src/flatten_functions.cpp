@@ -1503,13 +1503,13 @@ std::vector<Tensor> Flattener::inline_or_evaluate(ClassNode *fn, const Signature
                                                   std::vector<Tensor> arguments, const Expr &call,
                                                   std::size_t wanted) {
   const std::string fn_name = fn->path();
+  const unsigned quiet = without_events(*this, fn, sig) ? 1 : 0; // reports an output type it cannot resolve
   struct DepthGuard {
     unsigned &d;
     unsigned step;
+    DepthGuard(unsigned &depth, unsigned s) : d(depth), step(s) { d += step; }
     ~DepthGuard() { d -= step; }
-  } guard{function_depth_, 1}, events{no_event_depth_, without_events(*this, fn, sig) ? 1u : 0u};
-  function_depth_ += guard.step;
-  no_event_depth_ += events.step;
+  } guard{function_depth_, 1}, events{no_event_depth_, quiet};
   const auto report = [&](const InlineUnsupported &u) {
     fail(DiagId::Unsupported, u.range, "cannot inline function '" + fn_name + "': " + u.what);
   };
