@@ -129,7 +129,8 @@ struct EventDesignRun {
 /// its status is success or acceptable with a finite criterion. Returns the
 /// starts, their local optima (cluster_optima) and, in `best`, the best
 /// converged start's run (else the first start that has a result). nullopt on
-/// MPI ranks other than 0. Throws std::runtime_error if no start has a result.
+/// MPI ranks other than 0. If no start has a result, `best.error` says so
+/// (with start 1's reason) and the starts' table is returned all the same.
 std::optional<MultistartResult> event_design_multistart(
     const std::vector<DesignStart>& starts, const MultistartSettings& settings,
     const std::function<EventDesignRun(std::size_t k, const std::string& log_file, bool isolated)>& solve,
