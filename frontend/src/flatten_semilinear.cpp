@@ -11,11 +11,11 @@
 // specification recommends replacing by
 //   s = if x >= 0 then q2 else q1;  y = semiLinear(x, q2, s)
 // Here the first component's equation becomes the one for s; the second one
-// and the connection's flow sum give y. The same holds where the components'
-// own values are the shared one (`semiLinear(m, h, port.h)`): then s takes the
-// first branch of the component the flow comes from. Connections of three or
-// more components, and pass-through components without semiLinear between
-// two others, are left as they are.
+// and the connection's flow sum give y. Where the shared value is instead the
+// negative-flow argument of both (`semiLinear(m, h, port.h)`), the rule gives
+// s = if x >= 0 then p1 else p2, with p1 and p2 the components' positive-flow
+// arguments. Connections of three or more components, and pass-through
+// components without semiLinear between two others, are left as they are.
 #include "flattener.hpp"
 
 namespace mo::frontend::detail {
