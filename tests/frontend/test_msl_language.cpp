@@ -292,6 +292,37 @@ TEST_CASE("a function's relations are noEvent unless it generates events or retu
   CHECK(contains(s, "n = if time > 1 then 2 else 1;"));
 }
 
+TEST_CASE("semiLinear on a two-component connection: the port value by MLS 3.7.2.5 rule 1, both forms",
+          "[msl][connections]") {
+  // The shared value as the positive-flow argument (FluidHeatFlow's form)
+  // and as the negative-flow one; x = the first component's mass flow.
+  const char *src = R"(
+    model Rule
+      connector Port flow Real m; flow Real H; Real h; end Port;
+      model Own parameter Real q; input Real m; Port port;
+      equation port.m = m; port.H = semiLinear(port.m, port.h, q); end Own;
+      model Back parameter Real q; Port port;
+      equation port.H = semiLinear(port.m, q, port.h); end Back;
+      model OwnSink parameter Real q; Port port;
+      equation port.H = semiLinear(port.m, port.h, q); end OwnSink;
+      model BackSource parameter Real q; input Real m; Port port;
+      equation port.m = m; port.H = semiLinear(port.m, q, port.h); end BackSource;
+      Own a(q = 1, m = time - 1);
+      OwnSink b(q = 2);
+      BackSource c(q = 3, m = time - 1);
+      Back d(q = 4);
+    equation
+      connect(a.port, b.port);
+      connect(c.port, d.port);
+    end Rule;)";
+  const std::string s = flat(src);
+  INFO(s);
+  CHECK(contains(s, "`a.port.h` = if `a.port.m` >= 0. then `b.q` else `a.q`;"));
+  CHECK(contains(s, "`c.port.h` = if `c.port.m` >= 0. then `c.q` else `d.q`;"));
+  CHECK(contains(s, "`b.port.H` = if `b.port.m` >= 0. then"));  // the second component keeps its own
+  CHECK(contains(s, "`d.port.H` = if `d.port.m` >= 0. then"));
+}
+
 TEST_CASE("for loops are unrolled, while loops run on constants, several outputs", "[msl][functions]") {
   const char *src = R"(
     function poly "Horner's scheme"
