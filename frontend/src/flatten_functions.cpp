@@ -37,6 +37,13 @@ using ast::ExprPtr;
 using ast::Statement;
 using ast::StatementKind;
 
+const Expr &without_no_event(const Expr &e) {
+  const Expr *x = &e;
+  while (x->kind == ExprKind::Call && x->args.size() == 1 && x->ref.is_simple() && x->ref.parts[0].name == "noEvent")
+    x = x->args[0].get();
+  return *x;
+}
+
 namespace {
 
 constexpr unsigned kMaxCallDepth = 64;
@@ -230,15 +237,6 @@ std::vector<std::size_t> selection(Flattener &f, const std::vector<ExprPtr> &sub
       break;
   }
   return out;
-}
-
-/// `e` without the noEvent() calls around it: a function's relations are
-/// wrapped (Flattener::no_event_depth_), and its decisions read through them.
-const Expr &without_no_event(const Expr &e) {
-  const Expr *x = &e;
-  while (x->kind == ExprKind::Call && x->args.size() == 1 && x->ref.is_simple() && x->ref.parts[0].name == "noEvent")
-    x = x->args[0].get();
-  return *x;
 }
 
 /// True if `e` is a Boolean by its top operation (a literal, a relation,

@@ -54,9 +54,7 @@ const Expr *factor_besides(const Expr &product, std::int32_t x) {
 std::optional<SemiLinear> semi_linear(const Expr &e) {
   if (e.kind != ExprKind::If || e.args.size() != 3)
     return std::nullopt;
-  const Expr *c = e.args[0].get();
-  while (c->kind == ExprKind::Call && c->args.size() == 1 && c->ref.is_simple() && c->ref.parts[0].name == "noEvent")
-    c = c->args[0].get();
+  const Expr *c = &without_no_event(*e.args[0]);
   if (c->kind != ExprKind::Binary || c->op != Op::Ge || !is_zero(*c->args[1]))
     return std::nullopt;
   SemiLinear s;

@@ -183,6 +183,9 @@ Tensor clone_tensor(const Tensor &t);
 
 /// True for a `record` or `operator record` class.
 bool is_record_class(const ClassNode *cls);
+/// `e` without the noEvent() calls around it (flatten_functions.cpp): the
+/// inliner wraps a function's relations in them (Flattener::no_event_depth_).
+const ast::Expr &without_no_event(const ast::Expr &e);
 /// True for a (scalar) instance of a record class.
 bool is_record_instance(const Instance &inst);
 
