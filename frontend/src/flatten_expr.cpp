@@ -189,26 +189,46 @@ bool Flattener::resolve_instances(const ast::ComponentRef &ref, const Scope &s, 
 }
 
 /// A component named `name` declared in `cls` or inherited by it.
-static const ast::Component *find_component(Flattener &f, ClassNode *cls, const std::string &name,
-                                            ClassNode *&owner, unsigned depth = 0) {
-  if (!cls || !cls->def || depth > 32)
-    return nullptr;
+static FoundConstant find_constant(Flattener &f, ClassNode *cls, const std::string &name, unsigned depth = 0) {
+  if (!cls || depth > 32)
+    return {};
+  if (cls->context) // a base scope: the constants of the class derived from it
+    return find_constant(f, cls->context, name, depth + 1);
+  if (!cls->def)
+    return {};
   for (const auto &c : cls->def->components)
-    if (c.name == name) {
-      owner = cls;
-      return &c;
-    }
+    if (c.name == name)
+      return {&c, c.mod.binding.get(), cls};
+  if (const auto &sb = cls->def->short_base) { // `package P = Q(k = 2)`: Q's, as modified here
+    ClassNode *base = f.lookup_class(cls->parent, sb->parts, sb->global, sb->range, false);
+    FoundConstant found = base && base != cls ? find_constant(f, base, name, depth + 1) : FoundConstant{};
+    if (found.decl)
+      for (const ast::ElementMod &em : cls->def->class_mod.args)
+        if (!em.redeclare && em.path.size() == 1 && em.path[0] == name && em.mod.binding)
+          return {found.decl, em.mod.binding.get(), cls->parent};
+    return found;
+  }
   // Silent: this probes enclosing classes for a constant; a broken extends
   // there is reported where that class is used, not at every name searched.
-  for (auto &[ext, base] : f.bases(cls, false))
-    if (auto *c = find_component(f, base, name, owner, depth + 1))
-      return c;
-  return nullptr;
+  for (auto &[ext, base] : f.bases(cls, false)) {
+    FoundConstant found = find_constant(f, base, name, depth + 1);
+    if (!found.decl)
+      continue;
+    for (const ast::ElementMod &em : ext->mod.args)
+      if (!em.redeclare && em.path.size() == 1 && em.path[0] == name && em.mod.binding)
+        return {found.decl, em.mod.binding.get(), cls};
+    if (found.scope) {
+      ClassNode *declaring = found.scope->context ? found.scope->origin : found.scope;
+      found.scope = f.base_scope(declaring, cls);
+    }
+    return found;
+  }
+  return {};
 }
 
-const ast::Component *Flattener::imported_constant(ClassNode *cls, const std::string &name, ClassNode *&owner) {
+FoundConstant Flattener::imported_constant(ClassNode *cls, const std::string &name) {
   if (!cls->def)
-    return nullptr;
+    return {};
   for (const auto &imp : cls->def->imports) {
     std::vector<std::string> pkg_path = imp.path;
     if (imp.wildcard || (!imp.names.empty() && std::count(imp.names.begin(), imp.names.end(), name))) {
@@ -220,10 +240,10 @@ const ast::Component *Flattener::imported_constant(ClassNode *cls, const std::st
     }
     const std::string member = imp.alias.empty() || imp.wildcard ? name : imp.path.back();
     ClassNode *pkg = pkg_path.empty() ? &lib_.root : lookup_class(&lib_.root, pkg_path, true, imp.range, false);
-    if (const ast::Component *c = pkg ? find_component(*this, pkg, member, owner) : nullptr)
+    if (FoundConstant c = pkg ? find_constant(*this, pkg, member) : FoundConstant{}; c.decl)
       return c;
   }
-  return nullptr;
+  return {};
 }
 
 bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out) {
@@ -256,24 +276,24 @@ bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, So
     return true;
   }
   const std::size_t n = ref.parts.size();
-  auto value_of = [&](ClassNode *owner, const ast::Component &c) {
-    if (c.variability != ast::Variability::Constant && c.variability != ast::Variability::Parameter)
+  auto value_of = [&](const FoundConstant &c) {
+    if (c.decl->variability != ast::Variability::Constant && c.decl->variability != ast::Variability::Parameter)
       fail(DiagId::NotConstant, where, "'" + ref.str() + "' is not a constant");
-    if (!c.mod.binding)
+    if (!c.binding)
       fail(DiagId::NotConstant, where, "constant '" + ref.str() + "' has no value");
-    Tensor t = expr(*c.mod.binding, Scope{nullptr, owner, nullptr});
+    Tensor t = expr(*c.binding, Scope{nullptr, c.scope, nullptr});
     for (auto &e : t.elems)
-      e = literal(eval(*e, where), where);
+      if (e->kind != ExprKind::String) // a String constant's value is its text
+        e = literal(eval(*e, where), where);
     out = std::move(t);
   };
   if (n == 1) {
     for (ClassNode *c = s.cls; c; c = c->parent) {
-      ClassNode *owner = nullptr;
-      const ast::Component *comp = find_component(*this, c, ref.parts[0].name, owner);
-      if (!comp)
-        comp = imported_constant(c, ref.parts[0].name, owner);
-      if (comp) {
-        value_of(owner, *comp);
+      FoundConstant found = find_constant(*this, c, ref.parts[0].name);
+      if (!found.decl)
+        found = imported_constant(c, ref.parts[0].name);
+      if (found.decl) {
+        value_of(found);
         return true;
       }
     }
@@ -304,9 +324,8 @@ bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, So
       out = Tensor::scalar(literal(static_cast<double>(i + 1), where, true));
       return true;
     }
-  ClassNode *owner = nullptr;
-  if (const ast::Component *comp = find_component(*this, cls, last, owner)) {
-    value_of(owner, *comp);
+  if (FoundConstant found = find_constant(*this, cls, last); found.decl) {
+    value_of(found);
     return true;
   }
   return false;

@@ -165,7 +165,9 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
     fail(DiagId::InstantiationTooDeep, inst.decl ? inst.decl->range : SourceRange{},
          "component nesting deeper than " + std::to_string(opts_.max_depth) +
              " levels (is a class instantiating itself?)");
-  if (std::find(class_stack_.begin(), class_stack_.end(), cls) != class_stack_.end()) {
+  // A class seen through two derived classes (two views) is still one class.
+  if (std::any_of(class_stack_.begin(), class_stack_.end(),
+                  [&](const ClassNode *c) { return c->tree_class() == cls->tree_class(); })) {
     fail(DiagId::ExtendsCycle, cls->def->range,
          "class '" + cls->path() + "' extends itself (through its base classes)");
   }
@@ -195,7 +197,7 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   for (auto &[ext, base] : bases(cls)) {
     // A class inherited along two paths is instantiated once: its elements
     // are identical duplicates, which Modelica merges (7.3).
-    if (!inherited_.insert({&inst, base}).second) {
+    if (!inherited_.insert({&inst, base->tree_class()}).second) {
       if (!ext->mod.empty())
         diags_.report(DiagId::DuplicateDeclaration, ext->range,
                       "'" + ext->base.str() + "' is inherited again with modifiers; only identical "

@@ -7,6 +7,8 @@
 namespace mo::frontend {
 
 std::string ClassNode::path() const {
+  if (context)
+    return context->path();
   if (!parent || parent->name.empty())
     return name;
   return parent->path() + "." + name;
@@ -20,7 +22,6 @@ void Library::Impl::insert(ClassNode &parent, const ast::ClassDef &def) {
     slot->parent = &parent;
   }
   slot->def = &def; // a later file replaces an earlier definition of the same class
-  node_of[&def] = slot.get();
   for (const auto &nested : def.classes)
     insert(*slot, *nested);
 }
@@ -65,7 +66,8 @@ static bool builtin_type(const std::string &n, flat::BaseType &t) {
 static ClassNode *extends_scope(ClassNode *cls, const ast::Extends &ext, ClassNode *root) {
   if (!ext.base.global && !ext.base.parts.empty()) {
     const std::string &first = ext.base.parts[0];
-    if (auto it = cls->children.find(first); it != cls->children.end() && it->second->def)
+    const auto &own = cls->tree_class()->children;
+    if (auto it = own.find(first); it != own.end() && it->second->def)
       return cls;
     for (const auto &imp : cls->def->imports) // `import A.B.C; extends C;`
       if ((imp.alias.empty() ? !imp.wildcard && imp.names.empty() && !imp.path.empty() && imp.path.back() == first
@@ -83,13 +85,19 @@ static bool predefined_enumeration(const std::string &n) {
 
 ClassNode *Flattener::extends_base(ClassNode *cls, const ast::Extends &ext) {
   if (ext.inherited_class) { // the class of that name a base of the enclosing class has
-    if (!cls->parent || !cls->parent->def)
+    ClassNode *enclosing = cls->parent;
+    if (!enclosing || !enclosing->def)
       return nullptr;
-    for (const auto &outer : cls->parent->def->extends) {
-      ClassNode *b = extends_base(cls->parent, outer);
-      if (b && b != cls->parent)
-        if (ClassNode *found = find_member_class(b, ext.base.parts[0]); found && found != cls)
-          return found;
+    // Seen from the class the enclosing one is part of: a package's
+    // `redeclare record extends State` is the State its other inherited
+    // classes see (MLS 7.3.1).
+    ClassNode *derived = enclosing->context ? enclosing->context : enclosing;
+    for (const auto &outer : enclosing->def->extends) {
+      ClassNode *b = extends_base(enclosing, outer);
+      if (b && b != enclosing)
+        if (ClassNode *found = find_member_class(b, ext.base.parts[0]);
+            found && found->tree_class() != cls->tree_class())
+          return inherited_view(found, derived);
     }
     return nullptr;
   }
@@ -98,21 +106,67 @@ ClassNode *Flattener::extends_base(ClassNode *cls, const ast::Extends &ext) {
   return lookup_class(extends_scope(cls, ext, &lib_.root), ext.base.parts, ext.base.global, ext.base.range, false);
 }
 
+ClassNode *Flattener::base_scope(ClassNode *base, ClassNode *derived) {
+  auto &slot = base_scopes_[{derived, base}];
+  if (!slot) {
+    slot = std::make_unique<ClassNode>();
+    slot->name = base->name;
+    slot->def = base->def;
+    slot->parent = base->parent;
+    slot->origin = base;
+    slot->context = derived;
+  }
+  return slot.get();
+}
+
+ClassNode *Flattener::inherited_view(ClassNode *found, ClassNode *derived) {
+  ClassNode *declaring = found->parent;
+  if (declaring && declaring->context)
+    declaring = declaring->origin;
+  if (!declaring || !declaring->def || declaring->tree_class() == derived->tree_class())
+    return found;
+  ClassNode *scope = base_scope(declaring, derived);
+  const ClassNode *shown = found->tree_class();
+  auto &slot = views_[{scope, shown}];
+  if (!slot) {
+    slot = std::make_unique<ClassNode>();
+    slot->name = found->name;
+    slot->def = found->def;
+    slot->parent = scope;
+    slot->origin = const_cast<ClassNode *>(shown);
+  }
+  return slot.get();
+}
+
+ClassNode *Flattener::own_class(ClassNode *cls, const std::string &name) {
+  if (!cls->origin) {
+    auto it = cls->children.find(name);
+    if (it != cls->children.end() && it->second->def)
+      return it->second.get();
+    if (ClassNode *loaded = lib_.load_member(*cls, name)) // Modelica's lookup in the file system
+      return loaded;
+    return it != cls->children.end() ? it->second.get() : nullptr; // an implied package from `within`
+  }
+  if (cls->context)
+    return nullptr; // a base scope's members are its derived class's
+  if (auto it = cls->children.find(name); it != cls->children.end())
+    return it->second.get();
+  ClassNode *shown = own_class(cls->origin, name);
+  if (!shown)
+    return nullptr;
+  auto view = std::make_unique<ClassNode>();
+  view->name = shown->name;
+  view->def = shown->def;
+  view->parent = cls;
+  view->origin = const_cast<ClassNode *>(shown->tree_class());
+  return (cls->children[name] = std::move(view)).get();
+}
+
 std::vector<std::pair<const ast::Extends *, ClassNode *>> Flattener::bases(ClassNode *cls, bool report) {
   std::vector<std::pair<const ast::Extends *, ClassNode *>> out;
   if (!cls || !cls->def)
     return out;
   for (const auto &ext : cls->def->extends) {
-    if (ext.inherited_class && cls->parent && cls->parent->def &&
-        cls->parent->def->restriction == ast::Restriction::Package) {
-      // What the package inherits would still see the class it replaces
-      // (a redeclared class is seen by the instance that replaced it only).
-      if (report)
-        diags_.report(DiagId::Unsupported, ext.range,
-                      "class extension '" + cls->name + "' inside package '" + cls->parent->path() +
-                          "' is not supported (the classes the package inherits would not see it)");
-      continue;
-    }
     ClassNode *base = extends_base(cls, ext);
     if (!base && ext.inherited_class) {
       if (report)
@@ -154,13 +208,10 @@ ClassNode *Flattener::find_member_class(ClassNode *cls, const std::string &name,
 }
 
 ClassNode *Flattener::search_member_class(ClassNode *cls, const std::string &name, unsigned depth) {
-  auto it = cls->children.find(name);
-  if (it != cls->children.end() && it->second->def)
-    return it->second.get();
-  if (ClassNode *loaded = lib_.load_member(*cls, name)) // Modelica's lookup in the file system
-    return loaded;
-  if (it != cls->children.end())
-    return it->second.get(); // an implied package from `within`
+  if (cls->context) // a base scope: its members are those of the class derived from it
+    return find_member_class(cls->context, name, depth);
+  if (ClassNode *own = own_class(cls, name))
+    return own;
   if (!cls->def)
     return nullptr;
   // Looking up a base's name can come back to this very search (a base
@@ -182,7 +233,7 @@ ClassNode *Flattener::search_member_class(ClassNode *cls, const std::string &nam
     ClassNode *base = extends_base(cls, ext);
     if (base && base != cls)
       if (ClassNode *found = find_member_class(base, name, depth + 1))
-        return found;
+        return inherited_view(found, cls);
   }
   return nullptr;
 }

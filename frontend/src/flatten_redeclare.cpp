@@ -66,11 +66,11 @@ Modifier Flattener::own_redeclarations(Instance &inst, ClassNode *cls) {
   for (const auto &nested : def.classes) {
     if (!nested->redeclare)
       continue;
-    auto it = lib_.node_of.find(nested.get());
-    if (it == lib_.node_of.end())
+    ClassNode *node_class = own_class(cls, nested->name); // a view's: a view too
+    if (!node_class)
       continue;
     Modifier &node = out.sub[nested->name];
-    node.redecl_class = it->second;
+    node.redecl_class = node_class;
     node.range = nested->range;
   }
   return out;

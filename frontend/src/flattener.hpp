@@ -23,19 +23,30 @@
 namespace mo::frontend {
 
 /// A class in the package tree, with its lexical parent.
+///
+/// A class found through inheritance is a *view* (MLS 5.6.1, 7.1): the
+/// elements of a base B are elements of the derived class D, so a class
+/// inherited from B, looked up in D, sees D's redeclared classes and
+/// constants. A view `V` shows `origin` (same `def`); its parent is the
+/// *base scope* of B in D, a node with `origin` B and `context` D whose
+/// member lookups go to D and whose parent is B's (lexical) parent. Views
+/// are made by the Flattener (flatten_lookup.cpp) and live as long as it.
 struct ClassNode {
   std::string name;
   const ast::ClassDef *def = nullptr; ///< null for the root and implied packages
   ClassNode *parent = nullptr;
-  std::map<std::string, std::unique_ptr<ClassNode>> children;
-  std::string path() const;
+  std::map<std::string, std::unique_ptr<ClassNode>> children; ///< of a view: views, made when looked up
+  ClassNode *origin = nullptr;  ///< a view or base scope: the class of the package tree it shows
+  ClassNode *context = nullptr; ///< a base scope: the derived class its members are looked up in
+  std::string path() const;     ///< a view's: its name in the class it was found in
+  /// The class of the package tree this node is or shows.
+  const ClassNode *tree_class() const { return origin ? origin->tree_class() : this; }
 };
 
 struct Library::Impl {
   ClassNode root;
   std::vector<std::unique_ptr<ast::StoredDefinition>> files;
   std::vector<std::string> order;
-  std::unordered_map<const ast::ClassDef *, ClassNode *> node_of;
   void insert(ClassNode &parent, const ast::ClassDef &def);
 
   // Lazy loading by Modelica's lookup rules (library_loader.cpp).
@@ -183,6 +194,18 @@ Tensor clone_tensor(const Tensor &t);
 
 /// True for a `record` or `operator record` class.
 bool is_record_class(const ClassNode *cls);
+
+/// A constant (or parameter) declared in a class or inherited by it: its
+/// declaration, the binding that applies — an extends modifier on the way
+/// from the class looked in to the declaration (the most derived first),
+/// else its own — and the class that binding is read in (for an inherited
+/// declaration, its class as part of the one looked in: `{mediumName}` in a
+/// base reads the derived package's mediumName).
+struct FoundConstant {
+  const ast::Component *decl = nullptr;
+  const ast::Expr *binding = nullptr;
+  ClassNode *scope = nullptr;
+};
 /// `e` without the noEvent() calls around it (flatten_functions.cpp): the
 /// inliner wraps a function's relations in them (Flattener::no_event_depth_).
 const ast::Expr &without_no_event(const ast::Expr &e);
@@ -317,6 +340,16 @@ public:
   /// scope, or for a class extension (`model extends M`) the M that a base
   /// of the enclosing class has.
   ClassNode *extends_base(ClassNode *cls, const ast::Extends &ext);
+  /// `found`, a member class of a base of `derived`, as a member of
+  /// `derived`: a view whose lookups go through `derived` (ClassNode).
+  ClassNode *inherited_view(ClassNode *found, ClassNode *derived);
+  /// The base scope of class `base` within `derived` (ClassNode).
+  ClassNode *base_scope(ClassNode *base, ClassNode *derived);
+  /// The class `name` declared in `cls` itself (not inherited), or null; a
+  /// view's are views of its origin's.
+  ClassNode *own_class(ClassNode *cls, const std::string &name);
+  std::map<std::pair<ClassNode *, const ClassNode *>, std::unique_ptr<ClassNode>> views_; ///< by parent and class shown
+  std::map<std::pair<ClassNode *, ClassNode *>, std::unique_ptr<ClassNode>> base_scopes_; ///< by derived and base class
   /// The default record class `cls` gives its field `c` (declared in
   /// `owner`), and the class it is read in: an extends modifier on the way
   /// from cls to owner (the most derived first), else c's own binding.
@@ -578,7 +611,7 @@ public:
   /// without `GenerateEvents = true` whose outputs are all Real): while it is
   /// non-zero, expr() wraps each relation it builds in noEvent().
   unsigned no_event_depth_ = 0;
-  std::set<std::pair<Instance *, ClassNode *>> inherited_; ///< bases instantiated per instance
+  std::set<std::pair<Instance *, const ClassNode *>> inherited_; ///< bases instantiated per instance
   std::set<std::pair<const Instance *, std::string>> disabled_; ///< conditional components switched off
 
   // -- external objects and the tables of ModelicaStandardTables
@@ -713,8 +746,8 @@ public:
   /// subscripts select several); null when the first name is no member.
   bool resolve_instances(const ast::ComponentRef &ref, const Scope &s, SourceRange where,
                          std::vector<int> &dims, std::vector<Instance *> &out);
-  /// The constant `name` that an import clause of `cls` brings in, or null.
-  const ast::Component *imported_constant(ClassNode *cls, const std::string &name, ClassNode *&owner);
+  /// The constant `name` that an import clause of `cls` brings in (decl null: none).
+  FoundConstant imported_constant(ClassNode *cls, const std::string &name);
   /// `a[i]` with a subscript that varies in time: `if i == 1 then a[1] ...
   /// else a[n]` in `out` (flatten_varying_subscripts.cpp); false when every
   /// subscript of `ref_expr` is known now.

@@ -112,16 +112,6 @@ TEST_CASE("bad redeclarations are reported at the redeclaration", "[redeclare]")
       end M;)");
     CHECK(contains(d, "m.mo:4:44: error: class extension 'N': no base of 'M.D' has a class 'N'"));
   }
-  SECTION("a class extension inside a package, which what the package inherits would not see") {
-    const std::string d = errors_of(R"(
-      model M
-        package Base replaceable record R Real a; end R; end Base;
-        package Derived extends Base; redeclare record extends R Real b; end R; end Derived;
-        Derived.R r(a = 1, b = 2);
-      end M;)");
-    CHECK(contains(d, "m.mo:4:56: error: class extension 'R' inside package 'M.Derived' is not supported "
-                      "(the classes the package inherits would not see it)"));
-  }
 }
 
 TEST_CASE("an outer element without an enclosing inner one is reported", "[redeclare][inner]") {
