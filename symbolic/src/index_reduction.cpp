@@ -194,16 +194,17 @@ int dummy_rank(const Dae& dae, int e, int v) {
   if (ss == "prefer") rank += 20;
   if (ss == "never") rank -= 8;
   if (ss == "avoid") rank -= 4;
-  // Then the variables the model differentiates (with a constant coefficient
-  // first, as a capacitor's C·der(v)), then those with a start value. A
-  // `fixed = true` start is the author's initial condition: that variable is
-  // a better state than one the model only differentiates (a medium's
-  // smoothed state, `der_T = der(state.T)`, whose weight on the volume's
-  // temperature is 0 at the start, would leave that temperature undefined).
+  // Then a variable with a `fixed = true` start, the author's initial
+  // condition (+9 +2, above any derivative with a start value): a better
+  // state than one the model only differentiates (a medium's smoothed state,
+  // `der_T = der(state.T)`, whose weight on the volume's temperature is 0 at
+  // the start, would leave that temperature undefined). Then the variables
+  // the model differentiates (with a constant coefficient first, as a
+  // capacitor's C·der(v)), then those with a start value.
   const DaeVar& base = dae.vars[at(chain_base(dae, v))];
   if (base.source_derivative) rank += base.linear_derivative ? 8 : 6;
   if (base.start_given) rank += 2;
-  if (base.fixed) rank += 7;
+  if (base.fixed) rank += 9;
   if (chain_base(dae, v) == dae.eqs[at(chain_root(dae, e))].lhs_var) rank -= 2;
   return rank;
 }
