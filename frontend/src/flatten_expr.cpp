@@ -188,7 +188,8 @@ bool Flattener::resolve_instances(const ast::ComponentRef &ref, const Scope &s, 
   return true;
 }
 
-/// A component named `name` declared in `cls` or inherited by it.
+/// The constant `name` of `cls`, declared there or inherited (FoundConstant);
+/// a base scope's are those of its derived class.
 static FoundConstant find_constant(Flattener &f, ClassNode *cls, const std::string &name, unsigned depth = 0) {
   if (!cls || depth > 32)
     return {};

@@ -206,6 +206,7 @@ struct FoundConstant {
   const ast::Expr *binding = nullptr;
   ClassNode *scope = nullptr;
 };
+
 /// `e` without the noEvent() calls around it (flatten_functions.cpp): the
 /// inliner wraps a function's relations in them (Flattener::no_event_depth_).
 const ast::Expr &without_no_event(const ast::Expr &e);
