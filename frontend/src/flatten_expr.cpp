@@ -248,6 +248,37 @@ FoundConstant Flattener::imported_constant(ClassNode *cls, const std::string &na
 }
 
 bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out) {
+  return named_constant(ref, s, where, out) || (ref.parts.size() > 1 && record_constant_field(ref, s, where, out));
+}
+
+bool Flattener::record_constant_field(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out) {
+  // The longest prefix that names a record constant; the rest designates
+  // into its value, as into a function's local record.
+  for (std::size_t k = ref.parts.size() - 1; k >= 1; --k) {
+    ast::ComponentRef bare;
+    bare.global = ref.global;
+    for (std::size_t i = 0; i < k; ++i)
+      bare.parts.push_back(ast::RefPart{ref.parts[i].name, {}});
+    bool subscripted = false;
+    for (std::size_t i = 0; i + 1 < k; ++i)
+      subscripted = subscripted || !ref.parts[i].subscripts.empty();
+    Tensor whole;
+    if (!subscripted && named_constant(bare, s, where, whole) && whole.record) {
+      ast::ComponentRef rest;
+      for (std::size_t i = k - 1; i < ref.parts.size(); ++i) {
+        rest.parts.push_back(ast::RefPart{ref.parts[i].name, {}});
+        for (const auto &sub : ref.parts[i].subscripts)
+          rest.parts.back().subscripts.push_back(sub->clone());
+      }
+      for (const std::size_t i : designate(whole, rest, s, where, out))
+        out.elems.push_back(whole.elems[i]->clone());
+      return true;
+    }
+  }
+  return false;
+}
+
+bool Flattener::named_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out) {
   for (std::size_t i = 0; i + 1 < ref.parts.size(); ++i)
     if (!ref.parts[i].subscripts.empty())
       return false;
@@ -265,7 +296,7 @@ bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, So
     for (const auto &part : ref.parts)
       bare.parts.push_back(ast::RefPart{part.name, {}});
     Tensor whole;
-    if (!lookup_constant(bare, s, where, whole))
+    if (!named_constant(bare, s, where, whole))
       return false;
     ast::ComponentRef own;
     own.parts.push_back(ast::RefPart{ref.parts.back().name, {}});
@@ -280,9 +311,10 @@ bool Flattener::lookup_constant(const ast::ComponentRef &ref, const Scope &s, So
   auto value_of = [&](const FoundConstant &c) {
     if (c.decl->variability != ast::Variability::Constant && c.decl->variability != ast::Variability::Parameter)
       fail(DiagId::NotConstant, where, "'" + ref.str() + "' is not a constant");
-    if (!c.binding)
+    std::optional<Tensor> record;
+    if (!c.binding && !(record = record_from_modifiers(c.scope, *c.decl, where)))
       fail(DiagId::NotConstant, where, "constant '" + ref.str() + "' has no value");
-    Tensor t = expr(*c.binding, Scope{nullptr, c.scope, nullptr});
+    Tensor t = record ? std::move(*record) : expr(*c.binding, Scope{nullptr, c.scope, nullptr});
     for (auto &e : t.elems)
       if (e->kind != ExprKind::String) // a String constant's value is its text
         e = literal(eval(*e, where), where);

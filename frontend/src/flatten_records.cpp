@@ -298,6 +298,40 @@ Tensor Flattener::record_defaults(const std::shared_ptr<const RecordLayout> &lay
   return out;
 }
 
+std::optional<Tensor> Flattener::record_from_modifiers(ClassNode *scope, const ast::Component &decl,
+                                                      SourceRange where) {
+  ResolvedType rt;
+  if (!resolve_type(scope, decl.type, rt))
+    throw Reported{};
+  if (rt.is_builtin || !rt.cls || !is_record_class(rt.cls))
+    return std::nullopt;
+  auto layout = record_layout(rt.cls, where);
+  const Scope in_scope{nullptr, scope, nullptr};
+  std::vector<int> dims;
+  for (const auto &d : decl.dims)
+    dims.push_back(static_cast<int>(eval_int(*d, in_scope)));
+  dims.insert(dims.end(), rt.dims.begin(), rt.dims.end());
+  std::vector<const Expr *> given(layout->fields.size(), nullptr);
+  for (const ast::ElementMod &em : decl.mod.args) {
+    const RecordLayout::Field *f = em.path.size() == 1 ? layout->find(em.path[0]) : nullptr;
+    if (em.redeclare || !f || !em.mod.binding || !em.mod.args.empty())
+      fail(DiagId::Unsupported, em.range,
+           "record constant '" + decl.name + "': only modifiers that bind a field ('f = e') are supported");
+    if (!dims.empty() && !em.each)
+      fail(DiagId::Unsupported, em.range,
+           "array of record constants '" + decl.name + "': only 'each' modifiers of its fields are supported");
+    given[static_cast<std::size_t>(f - layout->fields.data())] = em.mod.binding.get();
+  }
+  const Tensor one = build_record(*this, layout, given, in_scope, false, where);
+  Tensor out;
+  out.dims = dims;
+  out.record = layout;
+  for (std::size_t k = 0; k < product(dims); ++k)
+    for (const auto &e : one.elems)
+      out.elems.push_back(e->clone());
+  return out;
+}
+
 Tensor Flattener::record_constructor(ClassNode *cls, const Expr &call, const Scope &s) {
   auto layout = record_layout(cls, call.range);
   // MLS 12.6: the constructor's inputs are the fields but constants and

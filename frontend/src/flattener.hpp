@@ -759,6 +759,16 @@ public:
   std::function<void(const ast::Expr &index, int n)> on_varying_index;
   /// A constant reached lexically (package constants, enumeration literals).
   bool lookup_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
+  /// lookup_constant's named constant: `k`, `P.k`, `P.k[i]`.
+  bool named_constant(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
+  /// A field of a record constant: `data.R`, `P.data.alow[2]`,
+  /// `fluidConstants[1].molarMass`; false if no prefix of `ref` is one.
+  bool record_constant_field(const ast::ComponentRef &ref, const Scope &s, SourceRange where, Tensor &out);
+  /// The value of record constant `decl` (declared or inherited in `scope`)
+  /// without a binding, from its modifiers (`constant DataRecord H2O(name =
+  /// "H2O", MM = 0.018)`, `each` ones for an array of records) and the
+  /// record's defaults; nullopt if `decl` is not of a record type.
+  std::optional<Tensor> record_from_modifiers(ClassNode *scope, const ast::Component &decl, SourceRange where);
 
   // connections: set elements are 2*var + (1 if seen from outside);
   // see flatten_connect.cpp.

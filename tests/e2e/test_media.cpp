@@ -1,7 +1,9 @@
 // Medium packages in the shape of Modelica.Media's: classes a package
 // inherits see the classes and constants the package redeclares and
-// modifies (MLS 5.6.1, 7.1). Our own MediumVolume.mo against its closed
-// form, and the MSL's SimpleLiquidWater example against its own.
+// modifies (MLS 5.6.1, 7.1), and package constants of record type hold the
+// gases' data. Our own MediumVolume.mo against its closed form, and three
+// of the MSL's Media examples against theirs: SimpleLiquidWater's heating,
+// IdealGasH2O's NASA polynomials, MixtureGases' balances.
 #include <cmath>
 #include <string>
 
@@ -92,5 +94,76 @@ TEST_CASE("the MSL's SimpleLiquidWater heats its volume at the rate its medium's
       CHECK(std::fabs(der_p[k]) < 1e-12);
     }
     CHECK(eta[k] == Approx(1e-3).epsilon(1e-12));  // the medium's eta_const
+  }
+}
+
+TEST_CASE("the MSL's IdealGasH2O gives steam's heat capacity by the NASA polynomials of its data record",
+          "[msl][media]") {
+  auto model = msl_compiled_model("e2e_msl_ideal_gas_h2o", {{kData + "MslMedia.mo", "IdealGasH2O"}, {}, true});
+  if (!model) return;
+  const auto p = model->info().default_parameters();
+  auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1, 20), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto& tab = r.trajectory;
+  const auto T = variable("e2e_msl_ideal_gas_h2o", tab, p, "state.T");
+  const auto cp = variable("e2e_msl_ideal_gas_h2o", tab, p, "cp");
+  const auto cv = variable("e2e_msl_ideal_gas_h2o", tab, p, "cv");
+  const auto k = variable("e2e_msl_ideal_gas_h2o", tab, p, "k");
+  const auto a = variable("e2e_msl_ideal_gas_h2o", tab, p, "a");
+  // SingleGasesData.H2O: R and the coefficients below and above Tlimit = 1000 K;
+  // cp/R = a1/T^2 + a2/T + a3 + a4 T + a5 T^2 + a6 T^3 + a7 T^4.
+  const double R = 461.5233290850878;
+  const double low[] = {-39479.6083, 575.573102, 0.931782653, 0.00722271286, -7.34255737e-006,
+                        4.95504349e-009, -1.336933246e-012};
+  const double high[] = {1034972.096, -2412.698562, 4.64611078, 0.002291998307, -6.836830479999999e-007,
+                         9.426468930000001e-011, -4.82238053e-015};
+  const auto t = tab.times();
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    INFO("t = " << t[i]);
+    CHECK(T[i] == Approx(200 + 1000 * t[i]).epsilon(1e-12));
+    const double* c = T[i] < 1000 ? low : high;
+    double poly = 0;
+    for (int j = 6; j >= 0; --j) poly = poly * T[i] + c[j];
+    const double cp_nasa = R * poly / (T[i] * T[i]);
+    CHECK(cp[i] == Approx(cp_nasa).epsilon(1e-12));
+    CHECK(cv[i] == Approx(cp_nasa - R).epsilon(1e-12));
+    CHECK(k[i] == Approx(cp_nasa / (cp_nasa - R)).epsilon(1e-12));
+    CHECK(a[i] == Approx(std::sqrt(R * T[i] * cp_nasa / (cp_nasa - R))).epsilon(1e-12));
+  }
+}
+
+TEST_CASE("the MSL's MixtureGases keeps its volumes' mass and energy balances and the ideal gas law",
+          "[msl][media]") {
+  auto model = msl_compiled_model("e2e_msl_mixture_gases", {{kData + "MslMedia.mo", "MixtureGases"}, {}, true});
+  if (!model) return;
+  const auto p = model->info().default_parameters();
+  auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1, 20), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto& tab = r.trajectory;
+  const auto t = tab.times();
+  for (const std::string v : {"1", "2"}) {
+    INFO("volume " << v);
+    const auto m = variable("e2e_msl_mixture_gases", tab, p, "m" + v);
+    const auto U = variable("e2e_msl_mixture_gases", tab, p, "U" + v);
+    const auto pr = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".p");
+    const auto T = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".T");
+    const auto d = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".d");
+    const auto Rg = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".R");
+    const auto u = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".u");
+    const auto h = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".h");
+    // Both start at 1 bar and 300 K (fixed), in 1 m3.
+    CHECK(pr[0] == Approx(1e5).epsilon(1e-12));
+    CHECK(T[0] == Approx(300).epsilon(1e-12));
+    for (std::size_t i = 0; i < t.size(); ++i) {
+      INFO("t = " << t[i]);
+      // 0.01 kg/s and 5 kW in: m and U grow linearly.
+      CHECK(m[i] == Approx(m[0] + 0.01 * t[i]).epsilon(1e-7));
+      CHECK(U[i] == Approx(U[0] + 5000 * t[i]).epsilon(1e-7));
+      CHECK(pr[i] == Approx(d[i] * Rg[i] * T[i]).epsilon(1e-12));  // p = d R T
+      CHECK(u[i] == Approx(h[i] - Rg[i] * T[i]).epsilon(1e-12));   // u = h - R T
+      CHECK(m[i] == Approx(d[i]).epsilon(1e-12));                  // V = 1 m3
+    }
   }
 }

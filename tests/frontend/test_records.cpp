@@ -100,6 +100,21 @@ TEST_CASE("records: misuse is reported where it is written", "[flatten][records]
   }
 }
 
+TEST_CASE("records: what a package's record constant cannot be given is reported where it is written",
+          "[flatten][records]") {
+  const std::pair<const char *, const char *> cases[] = {
+      {"    constant Pt c(y = 1);", "field 'x' of record 'Pt' has no value and no default"},
+      {"    constant Pt c[2](x = 1);", "array of record constants 'c': only 'each' modifiers of its fields"},
+      {"    constant Pt c(x(unit = \"m\") = 1);", "record constant 'c': only modifiers that bind a field"},
+  };
+  for (const auto &[line, message] : cases) {
+    Compiled c = with_pt(std::string("model M\n  package P\n") + line + "\n  end P;\n  Real r = P.c[1].y;\nend M;\n");
+    INFO(line << "\n" << c.diagnostics);
+    CHECK_FALSE(c.ok());
+    CHECK(c.diagnostics.find(message) != std::string::npos);
+  }
+}
+
 TEST_CASE("records: fields of a local record in a function are read and assigned", "[flatten][records]") {
   // f's last assignment is `s := t.x + t.y` plus `extra`.
   const auto with_f = [](const std::string &extra) {

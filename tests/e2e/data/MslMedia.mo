@@ -5,3 +5,17 @@
 model SimpleLiquidWater
   extends Modelica.Media.Examples.SimpleLiquidWater;
 end SimpleLiquidWater;
+
+// Properties of steam as an ideal gas (IdealGases.SingleGases.H2O, NASA
+// polynomials of IdealGases.Common.SingleGasesData.H2O, a record constant)
+// from 200 to 1200 K at 1 bar.
+model IdealGasH2O
+  extends Modelica.Media.Examples.IdealGasH2O;
+end IdealGasH2O;
+
+// Two closed volumes of gas mixtures (CombustionAir, SimpleNaturalGas) fed
+// with mass and enthalpy at constant rates, their pressure and temperature
+// the states.
+model MixtureGases
+  extends Modelica.Media.Examples.MixtureGases;
+end MixtureGases;
