@@ -348,7 +348,9 @@ bool Flattener::named_constant(const ast::ComponentRef &ref, const Scope &s, Sou
     out = Tensor::scalar(literal(last == "error" ? 1 : 2, where, true));
     return true;
   }
-  ClassNode *cls = lookup_class(s.cls ? s.cls : &lib_.root, path, ref.global, where, false);
+  ClassNode *cls = ref.global ? nullptr : replaced_class(s.inst, path);
+  if (!cls)
+    cls = lookup_class(s.cls ? s.cls : &lib_.root, path, ref.global, where, false);
   if (!cls || !cls->def)
     return false;
   const auto &lits = cls->def->enumeration;
@@ -375,6 +377,32 @@ void Flattener::no_record(const Tensor &t, SourceRange where, const std::string 
 void Flattener::no_record(const Tensor &t, SourceRange where, Op op) {
   if (t.record)
     no_record(t, where, std::string("'") + ast::op_text(op) + "'");
+}
+
+/// `{a, b, c}`, `{f(i) for i in r}` and the same written `array(...)`.
+Tensor Flattener::array_constructor(const Expr &e, const Scope &s) {
+  std::vector<Tensor> parts;
+  if (!e.iterators.empty()) {
+    if (e.args.size() != 1)
+      fail(DiagId::Unsupported, e.range, "an array constructor with iterators has one expression");
+    return comprehension(*e.args[0], e.iterators, s, e.range);
+  }
+  for (const auto &a : e.args)
+    parts.push_back(expr(*a, s));
+  Tensor t;
+  t.dims.push_back(static_cast<int>(parts.size()));
+  for (std::size_t i = 0; i < parts.size(); ++i) {
+    if (i == 0)
+      t.dims.insert(t.dims.end(), parts[0].dims.begin(), parts[0].dims.end());
+    else if (parts[i].dims != parts[0].dims)
+      fail(DiagId::TypeMismatch, e.range, "the elements of this array have different sizes");
+    if (!same_record_type(parts[i].record, parts[0].record))
+      fail(DiagId::TypeMismatch, e.range, "the elements of this array are records of different types");
+    t.record = parts[0].record;
+    for (auto &x : parts[i].elems)
+      t.elems.push_back(std::move(x));
+  }
+  return t;
 }
 
 ExprPtr Flattener::scalar_expr(const Expr &e, const Scope &s) {
@@ -650,30 +678,8 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
     }
     return result;
   }
-  case ExprKind::Array: {
-    std::vector<Tensor> parts;
-    if (!e.iterators.empty()) {
-      if (e.args.size() != 1)
-        fail(DiagId::Unsupported, e.range, "an array constructor with iterators has one expression");
-      return comprehension(*e.args[0], e.iterators, s, e.range);
-    }
-    for (const auto &a : e.args)
-      parts.push_back(expr(*a, s));
-    Tensor t;
-    t.dims.push_back(static_cast<int>(parts.size()));
-    for (std::size_t i = 0; i < parts.size(); ++i) {
-      if (i == 0)
-        t.dims.insert(t.dims.end(), parts[0].dims.begin(), parts[0].dims.end());
-      else if (parts[i].dims != parts[0].dims)
-        fail(DiagId::TypeMismatch, e.range, "the elements of this array have different sizes");
-      if (!same_record_type(parts[i].record, parts[0].record))
-        fail(DiagId::TypeMismatch, e.range, "the elements of this array are records of different types");
-      t.record = parts[0].record;
-      for (auto &x : parts[i].elems)
-        t.elems.push_back(std::move(x));
-    }
-    return t;
-  }
+  case ExprKind::Array:
+    return array_constructor(e, s);
   case ExprKind::Matrix:
     return matrix_constructor(e, s);
   case ExprKind::Range: {
@@ -791,6 +797,8 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
         t.elems.push_back(literal(d, e.range, true));
       return t;
     }
+    if (name == "array") // array(a, b) is {a, b} (MLS 10.4)
+      return array_constructor(e, s);
     if (name == "zeros" || name == "ones" || name == "fill") {
       std::size_t first = name == "fill" ? 1 : 0;
       if (e.args.size() <= first)

@@ -870,7 +870,9 @@ ClassNode *Flattener::lookup_called_class(const Expr &call, const Scope &s) {
       return nullptr;
     path.push_back(part.name);
   }
-  ClassNode *cls = lookup_class(s.cls ? s.cls : &lib_.root, path, call.ref.global, call.range, false);
+  ClassNode *cls = call.ref.global ? nullptr : replaced_class(s.inst, path);
+  if (!cls)
+    cls = lookup_class(s.cls ? s.cls : &lib_.root, path, call.ref.global, call.range, false);
   if (!cls && path.size() >= 2 && !call.ref.global)
     cls = function_of_instance(call, s).second;
   return cls && cls->def ? cls : nullptr;

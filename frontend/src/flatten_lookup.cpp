@@ -282,14 +282,24 @@ ClassNode *Flattener::lookup_class(ClassNode *scope, const std::vector<std::stri
   return found;
 }
 
+ClassNode *Flattener::replaced_class(const Instance *in, const std::vector<std::string> &parts) {
+  if (!in || parts.empty())
+    return nullptr;
+  auto it = in->replaced.find(parts[0]);
+  if (it == in->replaced.end())
+    return nullptr;
+  ClassNode *cls = it->second;
+  for (std::size_t i = 1; cls && i < parts.size(); ++i)
+    cls = find_member_class(cls, parts[i]);
+  return cls;
+}
+
 bool Flattener::resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out,
                              const Instance *in) {
   flat::BaseType bt;
   ClassNode *cls = nullptr;
   if (in && !type.global && in->replaced.count(type.parts[0])) {
-    cls = in->replaced.at(type.parts[0]);
-    for (std::size_t i = 1; cls && i < type.parts.size(); ++i)
-      cls = find_member_class(cls, type.parts[i]);
+    cls = replaced_class(in, type.parts);
   } else {
     cls = lookup_class(scope, type.parts, type.global, type.range, false);
   }

@@ -330,6 +330,10 @@ public:
   /// find_member_class's answers (null: no such member), by class and name:
   /// the class tree only grows by the loads those searches make themselves.
   std::unordered_map<std::pair<ClassNode *, std::string>, ClassNode *, MemberKeyHash> member_cache_;
+  /// The class `parts` names where its first name is a class that `in` (an
+  /// instance) has replaced by a redeclaration (`redeclare package Medium =
+  /// ...`: `Medium.f`, `Medium.nX`'s package); null otherwise.
+  ClassNode *replaced_class(const Instance *in, const std::vector<std::string> &parts);
   /// The type `type` names in class `scope`; a first name that `in` (the
   /// instance being built) has replaced by a redeclaration resolves there.
   bool resolve_type(ClassNode *scope, const ast::TypeName &type, ResolvedType &out,
@@ -491,6 +495,7 @@ public:
   Tensor comprehension(const ast::Expr &body, const std::vector<ast::ForIndex> &iterators, const Scope &s,
                        SourceRange where);
   /// `[a, b; c, d]` with scalar, vector or matrix elements (Modelica's cat/promote rules).
+  Tensor array_constructor(const ast::Expr &e, const Scope &s);
   Tensor matrix_constructor(const ast::Expr &e, const Scope &s);
   /// The array built-ins and reductions with iterators: true and `out` set
   /// when `call` is one of them; reports bad arguments.

@@ -61,6 +61,35 @@ TEST_CASE("a medium package's inherited functions and models use its redeclared 
   }
 }
 
+TEST_CASE("functions and constants reached through a replaceable package are those of its replacement",
+          "[media]") {
+  auto model = compiled_model("e2e_replaced_media", {{kData + "MediumVolume.mo", "ReplacedMedia"}, {}, true});
+  const auto p = model->info().default_parameters();
+  auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 60, 30), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto& tab = r.trajectory;
+  const auto t = tab.times();
+  struct Case {
+    const char* name;
+    double m, cp, cv;
+  };
+  for (const Case c : {Case{"oil", 850 * 0.01, 2000, 1800}, Case{"water", 1000 * 0.01, 4184, 4150}}) {
+    INFO(c.name);
+    const std::string v = c.name;
+    const auto T = variable("e2e_replaced_media", tab, p, v + ".medium.T");
+    const auto h = variable("e2e_replaced_media", tab, p, v + ".h_pT");
+    const auto n = variable("e2e_replaced_media", tab, p, v + ".n");
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      INFO("t = " << t[k]);
+      const double Tk = 300 + 500 * t[k] / (c.m * c.cv);  // m du/dt = Q, u = cv (T - T0)
+      CHECK(T[k] == Approx(Tk).epsilon(1e-8));
+      CHECK(h[k] == Approx(c.cp * (Tk - 273.15)).epsilon(1e-8));  // Medium.specificEnthalpy_pTX
+      CHECK(n[k] == 1);                                            // Medium.nX
+    }
+  }
+}
+
 TEST_CASE("the MSL's SimpleLiquidWater heats its volume at the rate its medium's constants give", "[msl][media]") {
   auto model = msl_compiled_model("e2e_msl_simple_liquid_water",
                                   {{kData + "MslMedia.mo", "SimpleLiquidWater"}, {}, true});

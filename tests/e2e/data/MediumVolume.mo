@@ -100,6 +100,11 @@ package Media
     extends PartialSimpleMedium(mediumName = "oil", cp_const = 2000, cv_const = 1800, d_const = 850,
                                 T0 = 273.15);
   end Oil;
+
+  package Water
+    extends PartialSimpleMedium(mediumName = "water", cp_const = 4184, cv_const = 4150, d_const = 1000,
+                                T0 = 273.15);
+  end Water;
 end Media;
 
 // A closed volume of oil heated at constant power, and a state that moves
@@ -128,3 +133,29 @@ equation
   mixed = Medium.setSmoothState(time - 30, medium.state, cold, 10);
   der_T = der(mixed.T);
 end MediumVolume;
+
+// A heated volume whose medium is a replaceable package, as Modelica.Fluid's
+// components have: the functions and constants it reaches through `Medium`
+// are those of the package a modifier puts in its place.
+model HeatedVolume
+  replaceable package Medium = Media.PartialMedium;
+  parameter Real V = 0.01 "volume, m3";
+  parameter Real Q = 500 "heating power, W";
+  Medium.BaseProperties medium(T(start = 300, fixed = true));
+  Real m = medium.d * V "mass, kg";
+  Real h_pT = Medium.specificEnthalpy_pTX(1e5, medium.T, fill(1 / Medium.nX, Medium.nX));
+  Real n = Medium.nX;
+equation
+  medium.p = 1e5;
+  m * der(medium.u) = Q;
+end HeatedVolume;
+
+// Two of them with different media, and one whose medium its own class's
+// extends clause redeclares.
+model ReplacedMedia
+  model OilVolume
+    extends HeatedVolume(redeclare package Medium = Media.Oil);
+  end OilVolume;
+  OilVolume oil;
+  HeatedVolume water(redeclare package Medium = Media.Water);
+end ReplacedMedia;
