@@ -881,14 +881,22 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
       a.dims = {static_cast<int>(a.elems.size())};
       return a;
     }
-    if (name == "semiLinear") {
+    if (name == "semiLinear") { // element by element over arrays (`port.Xi` of a medium: MLS 12.4.6)
       want_args(3, 3);
-      ExprPtr x = scalar_expr(*e.args[0], s), k1 = scalar_expr(*e.args[1], s), k2 = scalar_expr(*e.args[2], s);
-      auto n = std::make_unique<Expr>(ExprKind::If, e.range);
-      n->args.push_back(ast::make_binary(Op::Ge, x->clone(), literal(0, e.range), e.range));
-      n->args.push_back(ast::make_binary(Op::Mul, std::move(k1), x->clone(), e.range));
-      n->args.push_back(ast::make_binary(Op::Mul, std::move(k2), std::move(x), e.range));
-      return Tensor::scalar(std::move(n));
+      Tensor x = arg(0), k1 = arg(1), k2 = arg(2);
+      if (k1.dims != k2.dims || (!x.is_scalar() && x.dims != k1.dims))
+        fail(DiagId::TypeMismatch, e.range, "semiLinear(): the arguments have different sizes");
+      Tensor t;
+      t.dims = k1.dims;
+      for (std::size_t i = 0; i < k1.elems.size(); ++i) {
+        const Expr &xi = *x.elems[x.is_scalar() ? 0 : i];
+        auto n = std::make_unique<Expr>(ExprKind::If, e.range);
+        n->args.push_back(ast::make_binary(Op::Ge, xi.clone(), literal(0, e.range), e.range));
+        n->args.push_back(ast::make_binary(Op::Mul, std::move(k1.elems[i]), xi.clone(), e.range));
+        n->args.push_back(ast::make_binary(Op::Mul, std::move(k2.elems[i]), xi.clone(), e.range));
+        t.elems.push_back(std::move(n));
+      }
+      return t;
     }
   }
   // Optimica: `x(finalTime)` is the variable x at a time point.

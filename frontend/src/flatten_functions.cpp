@@ -175,6 +175,14 @@ void collect(Flattener &f, ClassNode *cls, Signature &sig, unsigned depth) {
   for (auto &[ext, base] : f.bases(cls))
     collect(f, base, sig, depth + 1);
   for (const auto &c : cls->def->components) {
+    // An element declared again as its base declares it (MixtureGasNasa's
+    // `redeclare function extends velocityOfSound` with its own `input
+    // ThermodynamicState state`) is one element (MLS 7.3).
+    const auto declared = [&](const auto &list) {
+      return std::any_of(list.begin(), list.end(), [&](const auto &e) { return e.first->name == c.name; });
+    };
+    if (declared(sig.inputs) || declared(sig.outputs) || declared(sig.locals))
+      continue;
     auto &list = c.causality == ast::Causality::Input    ? sig.inputs
                  : c.causality == ast::Causality::Output ? sig.outputs
                                                          : sig.locals;

@@ -355,6 +355,10 @@ public:
   ClassNode *own_class(ClassNode *cls, const std::string &name);
   std::map<std::pair<ClassNode *, const ClassNode *>, std::unique_ptr<ClassNode>> views_; ///< by parent and class shown
   std::map<std::pair<ClassNode *, ClassNode *>, std::unique_ptr<ClassNode>> base_scopes_; ///< by derived and base class
+  /// The class `name` that extends clause `ext` of `cls` redeclares (`extends
+  /// PartialMedium(redeclare record ThermodynamicState = BaseProps)`), or null.
+  ClassNode *redeclared_in_extends(ClassNode *cls, const ast::Extends &ext, const std::string &name);
+  std::map<std::pair<ClassNode *, const ast::ClassDef *>, std::unique_ptr<ClassNode>> extends_redeclarations_;
   /// The default record class `cls` gives its field `c` (declared in
   /// `owner`), and the class it is read in: an extends modifier on the way
   /// from cls to owner (the most derived first), else c's own binding.

@@ -323,6 +323,23 @@ TEST_CASE("semiLinear on a two-component connection: the port value by MLS 3.7.2
   CHECK(contains(s, "`d.port.H` = if `d.port.m` >= 0. then"));
 }
 
+TEST_CASE("semiLinear of arrays is taken element by element, of empty ones is empty", "[msl][connections]") {
+  // Modelica.Media's test models: `port.mXi_flow = semiLinear(port.m_flow,
+  // port.Xi, medium.Xi)`, Xi of size 0 for a single substance.
+  const std::string s = flat(R"(
+    model Vec
+      Real m = time - 1;
+      Real a[2] = {1, 2};
+      Real b[2] = {3, 4};
+      Real y[2] = semiLinear(m, a, b);
+      Real e[0] = semiLinear(m, fill(0.0, 0), fill(0.0, 0));
+    end Vec;)");
+  INFO(s);
+  CHECK(contains(s, "`y[1]` = if m >= 0. then `a[1]` * m else `b[1]` * m;"));
+  CHECK(contains(s, "`y[2]` = if m >= 0. then `a[2]` * m else `b[2]` * m;"));
+  CHECK_FALSE(contains(s, "e["));
+}
+
 TEST_CASE("for loops are unrolled, while loops run on constants, several outputs", "[msl][functions]") {
   const char *src = R"(
     function poly "Horner's scheme"

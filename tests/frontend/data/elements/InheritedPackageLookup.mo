@@ -4,7 +4,8 @@
 // State (with its extra field); Base's model Props declares Liquid's State;
 // Base's constants take the values Liquid's and Mixture's extends clauses
 // give (nX from names, names from mediumName), read in the derived package.
-// Base itself keeps its own classes and values.
+// Base itself keeps its own classes and values. Gas puts its State in place
+// by its extends clause's redeclaration, and declares h's input again.
 model InheritedPackageLookup
   partial package Base
     constant String mediumName = "unnamed";
@@ -52,6 +53,18 @@ model InheritedPackageLookup
   package Mixture
     extends Liquid(names = {"a", "b"}, T0 = 0);
   end Mixture;
+  record GasState
+    Real T;
+    Real p;
+  end GasState;
+  package Gas
+    extends Base(redeclare record State = GasState, cp = 2);
+    redeclare function extends h
+      input State s; // declared again as Base declares it: one input
+    algorithm
+      y := cp * s.T + s.p;
+    end h;
+  end Gas;
   package M = Mixture;
   Base.Props base;
   Liquid.Props liquid;
@@ -59,4 +72,8 @@ model InheritedPackageLookup
   Real yl = Liquid.h_T(time);
   Real ym = M.h_T(time);
   Real n = M.nX;
+  Gas.Props gas;
+  Real yg = Gas.h_T(time);
+equation
+  gas.state.p = 5;
 end InheritedPackageLookup;
