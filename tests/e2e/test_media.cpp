@@ -90,6 +90,28 @@ TEST_CASE("functions and constants reached through a replaceable package are tho
   }
 }
 
+TEST_CASE("a variable with a fixed start is the state rather than one the model only differentiates",
+          "[media][states]") {
+  auto model = compiled_model("e2e_fixed_start_state", {{kData + "FixedStartState.mo", "FixedStartState"}, {}, true});
+  const auto p = model->info().default_parameters();
+  auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 60, 60), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto& tab = r.trajectory;
+  const auto t = tab.times();
+  const auto T = variable("e2e_fixed_start_state", tab, p, "T");
+  const auto y = variable("e2e_fixed_start_state", tab, p, "y");
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    INFO("t = " << t[k]);
+    // U = T (10 + T/1000) = 3090 + t from T(0) = 300.
+    const double U = 3090 + t[k];
+    const double Tk = (-10 + std::sqrt(100 + 0.004 * U)) / 0.002;
+    CHECK(T[k] == Approx(Tk).epsilon(1e-9));
+    const double s = t[k] - 20, w = t[k] < 20 ? 0 : t[k] > 40 ? 1 : s * s * (60 - 2 * s) / 8000;
+    CHECK(y[k] == Approx(w * Tk + (1 - w) * 280).epsilon(1e-9));
+  }
+}
+
 TEST_CASE("the MSL's SimpleLiquidWater heats its volume at the rate its medium's constants give", "[msl][media]") {
   auto model = msl_compiled_model("e2e_msl_simple_liquid_water",
                                   {{kData + "MslMedia.mo", "SimpleLiquidWater"}, {}, true});
