@@ -13,11 +13,14 @@ MODELICAPATH=<shared>/third_party/msl-3.2.2:
   matches   every compared signal of the reference that our result has is
             within 1e-3 of its range (plus 1e-6) of the reference at the
             reference rows away from events, and at least one is compared
+With --package P (e.g. Modelica.Media.Examples, which has no reference
+results): every complete model of the MSL sources under package P instead
+(not partial, not a short definition), the same steps but `matches`.
 Prints one row per example (with the first line of the error when a step
 fails, or the timeout), the totals and the reasons of failure by count.
 Usage:
   bench/msl_examples.py [--build DIR] [--shared DIR] [--only SUBSTRING] [--jobs N]
-                        [--timeout SECONDS] [--list-matching]
+                        [--timeout SECONDS] [--list-matching] [--package P]
 """
 import argparse
 import bisect
@@ -50,6 +53,45 @@ def examples(ref_root):
             rel = os.path.relpath(dirpath, os.path.dirname(ref_root))
             out.append((rel.replace(os.sep, "."), dirpath))
     return sorted(out)
+
+
+def models_in(msl, package):
+    """The complete models (`model`, not partial, not `model A = B`) nested
+    in package `package` of the MSL sources, by their full names."""
+    parts = package.split(".")
+    d = msl
+    for i, part in enumerate(parts):
+        if os.path.isdir(os.path.join(d, part)):
+            d = os.path.join(d, part)
+            continue
+        one = os.path.join(d, part + ".mo")
+        files = [one] if os.path.isfile(one) else [os.path.join(d, "package.mo")]
+        break
+    else:
+        files = [os.path.join(dp, f) for dp, _, fs in os.walk(d) for f in fs if f.endswith(".mo")]
+    out = []
+    for f in sorted(files):
+        with open(f, encoding="utf-8", errors="replace") as fh:
+            text = fh.read()
+        # Strings and comments hold words like `model` and `end`: blank them out.
+        text = re.sub(r'"(\\.|[^"\\])*"|//[^\n]*|/\*.*?\*/', lambda m: re.sub(r"[^\n]", " ", m.group(0)),
+                      text, flags=re.S)
+        within = re.search(r"^\s*within\s+([\w.]*)\s*;", text, re.M)
+        stack = within.group(1).split(".") if within and within.group(1) else []
+        token = r"\b(?:(partial|encapsulated|replaceable|redeclare|final)\s+)*(model|block|class|package|record|" \
+                r"function|connector|type|operator\s+record)\s+(?:extends\s+)?(\w+)\s*(=)?|\bend\s+(\w+)\s*;"
+        for m in re.finditer(token, text):
+            if m.group(5):
+                if stack and stack[-1] == m.group(5):
+                    stack.pop()
+                continue
+            if m.group(4):  # a short definition has no end
+                continue
+            stack.append(m.group(3))
+            name = ".".join(stack)
+            if m.group(2) == "model" and not m.group(1) and name.startswith(package + "."):
+                out.append(name)
+    return sorted(set(out))
 
 
 def read_csv(path):
@@ -237,10 +279,16 @@ def main():
                          "when one does not, 77 when the shared folder is absent")
     ap.add_argument("--list-matching", action="store_true",
                     help="print only the classes that match their reference")
+    ap.add_argument("--package", default=None,
+                    help="every complete model under this package instead (no reference results)")
     args = ap.parse_args()
     args.shared = shared_dir(args.shared, 77 if args.pinned else None)
     ref_root = os.path.join(args.shared, "third_party", "msl-reference-results-3.2.3", "Modelica")
-    todo = [(c, d) for c, d in examples(ref_root) if args.only in c]
+    if args.package:
+        msl = os.path.join(args.shared, "third_party", "msl-3.2.2")
+        todo = [(c, os.path.join(ref_root, "none")) for c in models_in(msl, args.package) if args.only in c]
+    else:
+        todo = [(c, d) for c, d in examples(ref_root) if args.only in c]
     pinned = None
     if args.pinned:
         with open(args.pinned) as f:
