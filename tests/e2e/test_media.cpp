@@ -1,8 +1,10 @@
 // Medium packages in the shape of Modelica.Media's: classes a package
 // inherits see the classes and constants the package redeclares and
 // modifies (MLS 5.6.1, 7.1), and package constants of record type hold the
-// gases' data. Our own MediumVolume.mo against its closed form, and three
-// of the MSL's Media examples against theirs: SimpleLiquidWater's heating,
+// gases' data. Our own models against closed forms (MediumVolume: a medium
+// package in Media's shape; ReplacedMedia: media put in place by modifiers;
+// FixedStartState: the state rule SimpleLiquidWater needs), and three of the
+// MSL's Media examples against theirs: SimpleLiquidWater's heating,
 // IdealGasH2O's NASA polynomials, MixtureGases' balances.
 #include <cmath>
 #include <string>
