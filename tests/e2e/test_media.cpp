@@ -7,7 +7,9 @@
 // MSL's Media examples against theirs: SimpleLiquidWater's heating,
 // IdealGasH2O's NASA polynomials, MixtureGases' balances.
 #include <cmath>
+#include <optional>
 #include <string>
+#include <vector>
 
 #include "e2e/support.hpp"
 #include "mo/runtime/simulate.hpp"
@@ -26,24 +28,45 @@ double smooth_step(double x, double y1, double y2, double x_small) {
   return s * (s * s - 3) * (y2 - y1) / 4 + (y1 + y2) / 2;
 }
 
+/// A model of tests/e2e/data compiled as `name` (every variable a column),
+/// simulated from 0 to `stop` on `intervals` intervals (REQUIREs success):
+/// its times, and any variable by name (a column, or an eliminated one).
+struct Run {
+  std::string name;
+  std::vector<double> params;
+  runtime::SimulationResult result;
+  std::vector<double> times() const { return result.trajectory.times(); }
+  std::vector<double> operator()(const std::string& v) const {
+    return variable(name, result.trajectory, params, v);
+  }
+};
+
+/// `cls` of `file`; against the MSL of ../shared when `msl` (nullopt:
+/// skipped without it).
+std::optional<Run> run(const std::string& name, const std::string& file, const std::string& cls, double stop,
+                       std::size_t intervals, bool msl = false) {
+  const ModelSpec spec{{kData + file, cls, {}, true}, {}, true};
+  auto model = msl ? msl_compiled_model(name, spec) : compiled_model(name, spec);
+  if (!model) return std::nullopt;
+  Run out{name, model->info().default_parameters(), {}};
+  out.result = runtime::simulate(*model, {}, out.params, runtime::OutputGrid::uniform(0, stop, intervals), tight());
+  INFO(out.result.message);
+  REQUIRE(out.result.ok());
+  return out;
+}
+
 }  // namespace
 
 TEST_CASE("a medium package's inherited functions and models use its redeclared classes and constants",
           "[media]") {
-  auto model = compiled_model("e2e_medium_volume", {{kData + "MediumVolume.mo", "MediumVolume"}, {}, true});
-  const auto p = model->info().default_parameters();
-  const auto grid = runtime::OutputGrid::uniform(0, 60, 60);
-  auto r = runtime::simulate(*model, {}, p, grid, tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto& tab = r.trajectory;
-  const auto t = tab.times();
-  const auto T = variable("e2e_medium_volume", tab, p, "medium.T");
-  const auto h = variable("e2e_medium_volume", tab, p, "medium.h");
-  const auto mixed = variable("e2e_medium_volume", tab, p, "mixed.T");
-  const auto h_mixed = variable("e2e_medium_volume", tab, p, "h_mixed");
-  const auto der_T = variable("e2e_medium_volume", tab, p, "der_T");
-  const auto n = variable("e2e_medium_volume", tab, p, "n");
+  const auto r = run("e2e_medium_volume", "MediumVolume.mo", "MediumVolume", 60, 60);
+  const auto t = r->times();
+  const auto T = (*r)("medium.T");
+  const auto h = (*r)("medium.h");
+  const auto mixed = (*r)("mixed.T");
+  const auto h_mixed = (*r)("h_mixed");
+  const auto der_T = (*r)("der_T");
+  const auto n = (*r)("n");
   // Oil: 850 kg/m3 in 0.01 m3, cv 1800 J/(kg K), 500 W: the volume's
   // temperature rises at Q / (m cv) from its initial 300 K.
   const double rate = 500.0 / (850 * 0.01 * 1800);
@@ -65,13 +88,8 @@ TEST_CASE("a medium package's inherited functions and models use its redeclared 
 
 TEST_CASE("functions and constants reached through a replaceable package are those of its replacement",
           "[media]") {
-  auto model = compiled_model("e2e_replaced_media", {{kData + "MediumVolume.mo", "ReplacedMedia"}, {}, true});
-  const auto p = model->info().default_parameters();
-  auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 60, 30), tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto& tab = r.trajectory;
-  const auto t = tab.times();
+  const auto r = run("e2e_replaced_media", "MediumVolume.mo", "ReplacedMedia", 60, 30);
+  const auto t = r->times();
   struct Case {
     const char* name;
     double m, cp, cv;
@@ -79,9 +97,9 @@ TEST_CASE("functions and constants reached through a replaceable package are tho
   for (const Case c : {Case{"oil", 850 * 0.01, 2000, 1800}, Case{"water", 1000 * 0.01, 4184, 4150}}) {
     INFO(c.name);
     const std::string v = c.name;
-    const auto T = variable("e2e_replaced_media", tab, p, v + ".medium.T");
-    const auto h = variable("e2e_replaced_media", tab, p, v + ".h_pT");
-    const auto n = variable("e2e_replaced_media", tab, p, v + ".n");
+    const auto T = (*r)(v + ".medium.T");
+    const auto h = (*r)(v + ".h_pT");
+    const auto n = (*r)(v + ".n");
     for (std::size_t k = 0; k < t.size(); ++k) {
       INFO("t = " << t[k]);
       const double Tk = 300 + 500 * t[k] / (c.m * c.cv);  // m du/dt = Q, u = cv (T - T0)
@@ -94,15 +112,10 @@ TEST_CASE("functions and constants reached through a replaceable package are tho
 
 TEST_CASE("a variable with a fixed start is the state rather than one the model only differentiates",
           "[media][states]") {
-  auto model = compiled_model("e2e_fixed_start_state", {{kData + "FixedStartState.mo", "FixedStartState"}, {}, true});
-  const auto p = model->info().default_parameters();
-  auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 60, 60), tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto& tab = r.trajectory;
-  const auto t = tab.times();
-  const auto T = variable("e2e_fixed_start_state", tab, p, "T");
-  const auto y = variable("e2e_fixed_start_state", tab, p, "y");
+  const auto r = run("e2e_fixed_start_state", "FixedStartState.mo", "FixedStartState", 60, 60);
+  const auto t = r->times();
+  const auto T = (*r)("T");
+  const auto y = (*r)("y");
   for (std::size_t k = 0; k < t.size(); ++k) {
     INFO("t = " << t[k]);
     // U = T (10 + T/1000) = 3090 + t from T(0) = 300.
@@ -115,21 +128,14 @@ TEST_CASE("a variable with a fixed start is the state rather than one the model 
 }
 
 TEST_CASE("the MSL's SimpleLiquidWater heats its volume at the rate its medium's constants give", "[msl][media]") {
-  auto model = msl_compiled_model("e2e_msl_simple_liquid_water",
-                                  {{kData + "MslMedia.mo", "SimpleLiquidWater"}, {}, true});
-  if (!model) return;
-  const auto p = model->info().default_parameters();
-  const auto grid = runtime::OutputGrid::uniform(0, 100, 100);
-  auto r = runtime::simulate(*model, {}, p, grid, tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto& tab = r.trajectory;
-  const auto t = tab.times();
-  const auto T = variable("e2e_msl_simple_liquid_water", tab, p, "medium.T");
-  const auto state_T = variable("e2e_msl_simple_liquid_water", tab, p, "state.T");
-  const auto der_T = variable("e2e_msl_simple_liquid_water", tab, p, "der_T");
-  const auto der_p = variable("e2e_msl_simple_liquid_water", tab, p, "der_p");
-  const auto eta = variable("e2e_msl_simple_liquid_water", tab, p, "eta");
+  const auto r = run("e2e_msl_simple_liquid_water", "MslMedia.mo", "SimpleLiquidWater", 100, 100, true);
+  if (!r) return;
+  const auto t = r->times();
+  const auto T = (*r)("medium.T");
+  const auto state_T = (*r)("state.T");
+  const auto der_T = (*r)("der_T");
+  const auto der_p = (*r)("der_p");
+  const auto eta = (*r)("eta");
   // ConstantPropertyLiquidWater: d = 995.586 kg/m3, cv = 4184 J/(kg K);
   // 1 MW into 1 m3 from T = 300 K; medium2 at 330 K and p = 1e4 t Pa.
   const double rate = 1e6 / (995.586 * 4184);
@@ -152,18 +158,13 @@ TEST_CASE("the MSL's SimpleLiquidWater heats its volume at the rate its medium's
 
 TEST_CASE("the MSL's IdealGasH2O gives steam's heat capacity by the NASA polynomials of its data record",
           "[msl][media]") {
-  auto model = msl_compiled_model("e2e_msl_ideal_gas_h2o", {{kData + "MslMedia.mo", "IdealGasH2O"}, {}, true});
-  if (!model) return;
-  const auto p = model->info().default_parameters();
-  auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1, 20), tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto& tab = r.trajectory;
-  const auto T = variable("e2e_msl_ideal_gas_h2o", tab, p, "state.T");
-  const auto cp = variable("e2e_msl_ideal_gas_h2o", tab, p, "cp");
-  const auto cv = variable("e2e_msl_ideal_gas_h2o", tab, p, "cv");
-  const auto k = variable("e2e_msl_ideal_gas_h2o", tab, p, "k");
-  const auto a = variable("e2e_msl_ideal_gas_h2o", tab, p, "a");
+  const auto r = run("e2e_msl_ideal_gas_h2o", "MslMedia.mo", "IdealGasH2O", 1, 20, true);
+  if (!r) return;
+  const auto T = (*r)("state.T");
+  const auto cp = (*r)("cp");
+  const auto cv = (*r)("cv");
+  const auto k = (*r)("k");
+  const auto a = (*r)("a");
   // SingleGasesData.H2O: R and the coefficients below and above Tlimit = 1000 K;
   // cp/R = a1/T^2 + a2/T + a3 + a4 T + a5 T^2 + a6 T^3 + a7 T^4.
   const double R = 461.5233290850878;
@@ -171,7 +172,7 @@ TEST_CASE("the MSL's IdealGasH2O gives steam's heat capacity by the NASA polynom
                         4.95504349e-009, -1.336933246e-012};
   const double high[] = {1034972.096, -2412.698562, 4.64611078, 0.002291998307, -6.836830479999999e-007,
                          9.426468930000001e-011, -4.82238053e-015};
-  const auto t = tab.times();
+  const auto t = r->times();
   for (std::size_t i = 0; i < t.size(); ++i) {
     INFO("t = " << t[i]);
     CHECK(T[i] == Approx(200 + 1000 * t[i]).epsilon(1e-12));
@@ -188,24 +189,19 @@ TEST_CASE("the MSL's IdealGasH2O gives steam's heat capacity by the NASA polynom
 
 TEST_CASE("the MSL's MixtureGases keeps its volumes' mass and energy balances and the ideal gas law",
           "[msl][media]") {
-  auto model = msl_compiled_model("e2e_msl_mixture_gases", {{kData + "MslMedia.mo", "MixtureGases"}, {}, true});
-  if (!model) return;
-  const auto p = model->info().default_parameters();
-  auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1, 20), tight());
-  INFO(r.message);
-  REQUIRE(r.ok());
-  const auto& tab = r.trajectory;
-  const auto t = tab.times();
+  const auto r = run("e2e_msl_mixture_gases", "MslMedia.mo", "MixtureGases", 1, 20, true);
+  if (!r) return;
+  const auto t = r->times();
   for (const std::string v : {"1", "2"}) {
     INFO("volume " << v);
-    const auto m = variable("e2e_msl_mixture_gases", tab, p, "m" + v);
-    const auto U = variable("e2e_msl_mixture_gases", tab, p, "U" + v);
-    const auto pr = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".p");
-    const auto T = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".T");
-    const auto d = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".d");
-    const auto Rg = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".R");
-    const auto u = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".u");
-    const auto h = variable("e2e_msl_mixture_gases", tab, p, "medium" + v + ".h");
+    const auto m = (*r)("m" + v);
+    const auto U = (*r)("U" + v);
+    const auto pr = (*r)("medium" + v + ".p");
+    const auto T = (*r)("medium" + v + ".T");
+    const auto d = (*r)("medium" + v + ".d");
+    const auto Rg = (*r)("medium" + v + ".R");
+    const auto u = (*r)("medium" + v + ".u");
+    const auto h = (*r)("medium" + v + ".h");
     // Both start at 1 bar and 300 K (fixed), in 1 m3.
     CHECK(pr[0] == Approx(1e5).epsilon(1e-12));
     CHECK(T[0] == Approx(300).epsilon(1e-12));
