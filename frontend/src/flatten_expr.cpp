@@ -203,10 +203,8 @@ static FoundConstant find_constant(Flattener &f, ClassNode *cls, const std::stri
   if (const auto &sb = cls->def->short_base) { // `package P = Q(k = 2)`: Q's, as modified here
     ClassNode *base = f.lookup_class(cls->parent, sb->parts, sb->global, sb->range, false);
     FoundConstant found = base && base != cls ? find_constant(f, base, name, depth + 1) : FoundConstant{};
-    if (found.decl)
-      for (const ast::ElementMod &em : cls->def->class_mod.args)
-        if (!em.redeclare && em.path.size() == 1 && em.path[0] == name && em.mod.binding)
-          return {found.decl, em.mod.binding.get(), cls->parent};
+    if (const ast::Expr *b = found.decl ? element_binding(cls->def->class_mod, name) : nullptr)
+      return {found.decl, b, cls->parent};
     return found;
   }
   // Silent: this probes enclosing classes for a constant; a broken extends
@@ -215,9 +213,8 @@ static FoundConstant find_constant(Flattener &f, ClassNode *cls, const std::stri
     FoundConstant found = find_constant(f, base, name, depth + 1);
     if (!found.decl)
       continue;
-    for (const ast::ElementMod &em : ext->mod.args)
-      if (!em.redeclare && em.path.size() == 1 && em.path[0] == name && em.mod.binding)
-        return {found.decl, em.mod.binding.get(), cls};
+    if (const ast::Expr *b = element_binding(ext->mod, name))
+      return {found.decl, b, cls};
     if (found.scope) {
       ClassNode *declaring = found.scope->context ? found.scope->origin : found.scope;
       found.scope = f.base_scope(declaring, cls);

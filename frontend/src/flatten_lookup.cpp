@@ -241,24 +241,9 @@ ClassNode *Flattener::search_member_class(ClassNode *cls, const std::string &nam
 }
 
 ClassNode *Flattener::redeclared_in_extends(ClassNode *cls, const ast::Extends &ext, const std::string &name) {
-  for (const ast::ElementMod &em : ext.mod.args) {
-    if (!em.redeclare || !em.class_def || em.class_def->name != name)
-      continue;
-    const ast::ClassDef &def = *em.class_def;
-    // `redeclare record State = Q`: Q itself, looked up where the extends
-    // clause is written; otherwise a class of its own there.
-    if (def.short_base && def.class_mod.empty() && def.short_dims.empty())
-      if (ClassNode *q = lookup_class(cls, def.short_base->parts, def.short_base->global, def.short_base->range, false))
-        return q;
-    auto &slot = extends_redeclarations_[{cls, &def}];
-    if (!slot) {
-      slot = std::make_unique<ClassNode>();
-      slot->name = def.name;
-      slot->def = &def;
-      slot->parent = cls;
-    }
-    return slot.get();
-  }
+  for (const ast::ElementMod &em : ext.mod.args)
+    if (em.redeclare && em.class_def && em.class_def->name == name)
+      return redeclared_class(*em.class_def, cls, nullptr); // read where the extends clause is written
   return nullptr;
 }
 

@@ -52,6 +52,13 @@ bool is_record_instance(const Instance &inst) { return inst.var < 0 && inst.dims
 
 /// The MSL's `record M330_50A extends BaseData(tabris = [...])`: the
 /// extends modifier is M330_50A's default for tabris (and sizes its `[:, :]`).
+const ast::Expr *element_binding(const ast::Modification &m, const std::string &name) {
+  for (const ast::ElementMod &em : m.args)
+    if (!em.redeclare && em.path.size() == 1 && em.path[0] == name && em.mod.binding)
+      return em.mod.binding.get();
+  return nullptr;
+}
+
 std::pair<const ast::Expr *, ClassNode *> Flattener::field_binding(ClassNode *cls, ClassNode *owner,
                                                                    const ast::Component &c) {
   using Found = std::pair<const ast::Expr *, ClassNode *>;
@@ -59,9 +66,8 @@ std::pair<const ast::Expr *, ClassNode *> Flattener::field_binding(ClassNode *cl
     if (!k || k == owner || depth > 32)
       return {nullptr, nullptr};
     for (auto &[ext, base] : bases(k)) {
-      for (const ast::ElementMod &em : ext->mod.args)
-        if (!em.redeclare && em.path.size() == 1 && em.path[0] == c.name && em.mod.binding)
-          return {em.mod.binding.get(), k};
+      if (const ast::Expr *b = element_binding(ext->mod, c.name))
+        return {b, k};
       if (Found found = search(base, depth + 1); found.first)
         return found;
     }

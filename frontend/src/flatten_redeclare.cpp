@@ -18,30 +18,7 @@ void Flattener::redeclaration(const ast::ElementMod &em, Instance *scope, ClassN
     r.redecl_component = em.component.get();
     r.redecl_lexical = lexical;
   } else if (em.class_def) {
-    const ast::ClassDef &def = *em.class_def;
-    ClassNode *target = nullptr;
-    // `redeclare package P = Q`: Q itself, looked up where the modifier was
-    // written (a class that instance replaced first); otherwise a class node
-    // of its own, whose short base is looked up in that scope.
-    if (def.short_base && def.class_mod.empty() && def.short_dims.empty()) {
-      const ast::TypeName &b = *def.short_base;
-      if (scope && !b.global && scope->replaced.count(b.parts[0])) {
-        target = scope->replaced.at(b.parts[0]);
-        for (std::size_t i = 1; target && i < b.parts.size(); ++i)
-          target = find_member_class(target, b.parts[i]);
-      } else {
-        target = lookup_class(lexical, b.parts, b.global, b.range, false);
-      }
-    }
-    if (!target) {
-      auto node_ptr = std::make_unique<ClassNode>();
-      node_ptr->name = def.name;
-      node_ptr->def = &def;
-      node_ptr->parent = lexical;
-      target = node_ptr.get();
-      synthetic_classes_.push_back(std::move(node_ptr));
-    }
-    r.redecl_class = target;
+    r.redecl_class = redeclared_class(*em.class_def, lexical, scope);
   }
   r.each = em.each;
   r.final_ = em.final_;
@@ -49,6 +26,30 @@ void Flattener::redeclaration(const ast::ElementMod &em, Instance *scope, ClassN
   if (node.range.file == 0)
     node.range = em.range;
   merge_into(node, r);
+}
+
+ClassNode *Flattener::redeclared_class(const ast::ClassDef &def, ClassNode *lexical, const Instance *scope) {
+  // `redeclare package P = Q`: Q itself, looked up where the redeclaration
+  // was written (a class that instance replaced first); otherwise a class
+  // node of its own, whose short base is looked up in that scope.
+  ClassNode *target = nullptr;
+  if (def.short_base && def.class_mod.empty() && def.short_dims.empty()) {
+    const ast::TypeName &b = *def.short_base;
+    if (scope && !b.global && scope->replaced.count(b.parts[0]))
+      target = replaced_class(scope, b.parts);
+    else
+      target = lookup_class(lexical, b.parts, b.global, b.range, false);
+  }
+  if (target)
+    return target;
+  auto &slot = redeclared_classes_[{lexical, &def}];
+  if (!slot) {
+    slot = std::make_unique<ClassNode>();
+    slot->name = def.name;
+    slot->def = &def;
+    slot->parent = lexical;
+  }
+  return slot.get();
 }
 
 Modifier Flattener::own_redeclarations(Instance &inst, ClassNode *cls) {

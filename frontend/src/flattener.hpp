@@ -195,6 +195,10 @@ Tensor clone_tensor(const Tensor &t);
 /// True for a `record` or `operator record` class.
 bool is_record_class(const ClassNode *cls);
 
+/// The binding that modification `m` gives its element `name` (`name = e`),
+/// or null (a redeclaration, a nested modifier, none).
+const ast::Expr *element_binding(const ast::Modification &m, const std::string &name);
+
 /// A constant (or parameter) declared in a class or inherited by it: its
 /// declaration, the binding that applies — an extends modifier on the way
 /// from the class looked in to the declaration (the most derived first),
@@ -358,7 +362,6 @@ public:
   /// The class `name` that extends clause `ext` of `cls` redeclares (`extends
   /// PartialMedium(redeclare record ThermodynamicState = BaseProps)`), or null.
   ClassNode *redeclared_in_extends(ClassNode *cls, const ast::Extends &ext, const std::string &name);
-  std::map<std::pair<ClassNode *, const ast::ClassDef *>, std::unique_ptr<ClassNode>> extends_redeclarations_;
   /// The default record class `cls` gives its field `c` (declared in
   /// `owner`), and the class it is read in: an extends modifier on the way
   /// from cls to owner (the most derived first), else c's own binding.
@@ -446,7 +449,12 @@ public:
   /// constraining clause's) under the redeclaration's and outer ones.
   void instantiate_redeclared(Instance &inst, const ast::Component &comp, ClassNode *cls, const Modifier &mod,
                               unsigned depth);
-  std::vector<std::unique_ptr<ClassNode>> synthetic_classes_; ///< short classes of redeclarations
+  /// The class a redeclaration `def` written in `lexical` puts in place (in
+  /// a modifier of instance `scope`, or of an extends clause: null).
+  ClassNode *redeclared_class(const ast::ClassDef &def, ClassNode *lexical, const Instance *scope);
+  /// Class nodes of redeclarations that are not an existing class, by where
+  /// they are written and their definition.
+  std::map<std::pair<ClassNode *, const ast::ClassDef *>, std::unique_ptr<ClassNode>> redeclared_classes_;
   /// A binding, flattened and taken at the modifier's element index.
   ast::ExprPtr binding_expr(const Modifier &m);
   /// The value `m` binds: its binding flattened in its scope, then the
