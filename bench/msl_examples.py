@@ -60,7 +60,7 @@ def models_in(msl, package):
     in package `package` of the MSL sources, by their full names."""
     parts = package.split(".")
     d = msl
-    for i, part in enumerate(parts):
+    for part in parts:
         if os.path.isdir(os.path.join(d, part)):
             d = os.path.join(d, part)
             continue
