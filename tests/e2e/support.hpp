@@ -266,4 +266,32 @@ inline Deviation deviation_after_t0(const std::vector<double>& a, const std::vec
   return d;
 }
 
+/// A model of tests/e2e/data compiled as `name` (every variable a column),
+/// simulated from 0 to `stop` on `intervals` intervals (REQUIREs success):
+/// its times, and any variable by name (a column, or an eliminated one).
+struct DataRun {
+  std::string name;
+  std::vector<double> params;
+  runtime::SimulationResult result;
+  std::vector<double> times() const { return result.trajectory.times(); }
+  std::vector<double> operator()(const std::string& v) const {
+    return variable(name, result.trajectory, params, v);
+  }
+};
+
+/// `cls` of `file`; against the MSL of ../shared when `msl` (nullopt:
+/// skipped without it).
+inline std::optional<DataRun> run_data_model(const std::string& name, const std::string& file,
+                                             const std::string& cls, double stop, std::size_t intervals,
+                                             bool msl = false) {
+  const ModelSpec spec{{kData + file, cls, {}, true}, {}, true};
+  auto model = msl ? msl_compiled_model(name, spec) : compiled_model(name, spec);
+  if (!model) return std::nullopt;
+  DataRun out{name, model->info().default_parameters(), {}};
+  out.result = runtime::simulate(*model, {}, out.params, runtime::OutputGrid::uniform(0, stop, intervals), tight());
+  INFO(out.result.message);
+  REQUIRE(out.result.ok());
+  return out;
+}
+
 }  // namespace mo::e2e

@@ -28,38 +28,11 @@ double smooth_step(double x, double y1, double y2, double x_small) {
   return s * (s * s - 3) * (y2 - y1) / 4 + (y1 + y2) / 2;
 }
 
-/// A model of tests/e2e/data compiled as `name` (every variable a column),
-/// simulated from 0 to `stop` on `intervals` intervals (REQUIREs success):
-/// its times, and any variable by name (a column, or an eliminated one).
-struct Run {
-  std::string name;
-  std::vector<double> params;
-  runtime::SimulationResult result;
-  std::vector<double> times() const { return result.trajectory.times(); }
-  std::vector<double> operator()(const std::string& v) const {
-    return variable(name, result.trajectory, params, v);
-  }
-};
-
-/// `cls` of `file`; against the MSL of ../shared when `msl` (nullopt:
-/// skipped without it).
-std::optional<Run> run(const std::string& name, const std::string& file, const std::string& cls, double stop,
-                       std::size_t intervals, bool msl = false) {
-  const ModelSpec spec{{kData + file, cls, {}, true}, {}, true};
-  auto model = msl ? msl_compiled_model(name, spec) : compiled_model(name, spec);
-  if (!model) return std::nullopt;
-  Run out{name, model->info().default_parameters(), {}};
-  out.result = runtime::simulate(*model, {}, out.params, runtime::OutputGrid::uniform(0, stop, intervals), tight());
-  INFO(out.result.message);
-  REQUIRE(out.result.ok());
-  return out;
-}
-
 }  // namespace
 
 TEST_CASE("a medium package's inherited functions and models use its redeclared classes and constants",
           "[media]") {
-  const auto r = run("e2e_medium_volume", "MediumVolume.mo", "MediumVolume", 60, 60);
+  const auto r = run_data_model("e2e_medium_volume", "MediumVolume.mo", "MediumVolume", 60, 60);
   const auto t = r->times();
   const auto T = (*r)("medium.T");
   const auto h = (*r)("medium.h");
@@ -88,7 +61,7 @@ TEST_CASE("a medium package's inherited functions and models use its redeclared 
 
 TEST_CASE("functions and constants reached through a replaceable package are those of its replacement",
           "[media]") {
-  const auto r = run("e2e_replaced_media", "MediumVolume.mo", "ReplacedMedia", 60, 30);
+  const auto r = run_data_model("e2e_replaced_media", "MediumVolume.mo", "ReplacedMedia", 60, 30);
   const auto t = r->times();
   struct Case {
     const char* name;
@@ -112,7 +85,7 @@ TEST_CASE("functions and constants reached through a replaceable package are tho
 
 TEST_CASE("a variable with a fixed start is the state rather than one the model only differentiates",
           "[media][states]") {
-  const auto r = run("e2e_fixed_start_state", "FixedStartState.mo", "FixedStartState", 60, 60);
+  const auto r = run_data_model("e2e_fixed_start_state", "FixedStartState.mo", "FixedStartState", 60, 60);
   const auto t = r->times();
   const auto T = (*r)("T");
   const auto y = (*r)("y");
@@ -128,7 +101,7 @@ TEST_CASE("a variable with a fixed start is the state rather than one the model 
 }
 
 TEST_CASE("the MSL's SimpleLiquidWater heats its volume at the rate its medium's constants give", "[msl][media]") {
-  const auto r = run("e2e_msl_simple_liquid_water", "MslMedia.mo", "SimpleLiquidWater", 100, 100, true);
+  const auto r = run_data_model("e2e_msl_simple_liquid_water", "MslMedia.mo", "SimpleLiquidWater", 100, 100, true);
   if (!r) return;
   const auto t = r->times();
   const auto T = (*r)("medium.T");
@@ -158,7 +131,7 @@ TEST_CASE("the MSL's SimpleLiquidWater heats its volume at the rate its medium's
 
 TEST_CASE("the MSL's IdealGasH2O gives steam's heat capacity by the NASA polynomials of its data record",
           "[msl][media]") {
-  const auto r = run("e2e_msl_ideal_gas_h2o", "MslMedia.mo", "IdealGasH2O", 1, 20, true);
+  const auto r = run_data_model("e2e_msl_ideal_gas_h2o", "MslMedia.mo", "IdealGasH2O", 1, 20, true);
   if (!r) return;
   const auto T = (*r)("state.T");
   const auto cp = (*r)("cp");
@@ -189,7 +162,7 @@ TEST_CASE("the MSL's IdealGasH2O gives steam's heat capacity by the NASA polynom
 
 TEST_CASE("the MSL's MixtureGases keeps its volumes' mass and energy balances and the ideal gas law",
           "[msl][media]") {
-  const auto r = run("e2e_msl_mixture_gases", "MslMedia.mo", "MixtureGases", 1, 20, true);
+  const auto r = run_data_model("e2e_msl_mixture_gases", "MslMedia.mo", "MixtureGases", 1, 20, true);
   if (!r) return;
   const auto t = r->times();
   for (const std::string v : {"1", "2"}) {
