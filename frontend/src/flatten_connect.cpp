@@ -1,7 +1,8 @@
 // Connect semantics (Modelica 3, section 9.2). A connection set holds
 // elements (variable, seen from inside or outside): potentials in a set are
 // equal; flows sum to zero, inside elements counted +, outside ones −.
-// A flow whose inside element is in no set is zero.
+// A flow whose inside element is in no set is zero. Stream variables get
+// their equations in flatten_stream.cpp.
 #include "flattener.hpp"
 
 #include <fmt/format.h>
@@ -107,6 +108,10 @@ void Flattener::connect_pair(Instance *a, bool a_out, Instance *b, bool b_out, S
         fail(DiagId::ConnectIncompatible, where,
              "cannot connect flow variable '" + (x->is_flow ? x->flat : y->flat) + "' to non-flow variable '" +
                  (x->is_flow ? y->flat : x->flat) + "'");
+      if (x->is_stream != y->is_stream)
+        fail(DiagId::ConnectIncompatible, where,
+             "cannot connect stream variable '" + (x->is_stream ? x->flat : y->flat) + "' to non-stream variable '" +
+                 (x->is_stream ? y->flat : x->flat) + "'");
       if (x->causality == ast::Causality::Output && y->causality == ast::Causality::Output && !a_out && !b_out)
         fail(DiagId::ConnectIncompatible, where,
              "cannot connect two outputs '" + x->flat + "' and '" + y->flat + "'");
@@ -200,6 +205,8 @@ void Flattener::finish_connections() {
       }
       continue;
     }
+    if (model_->variables[set[0] / 2].is_stream)
+      continue; // stream_connections, once every set is known
     if (model_->variables[set[0] / 2].is_flow) {
       std::vector<ExprPtr> terms;
       for (std::int32_t e : set) {
@@ -245,6 +252,7 @@ void Flattener::finish_connections() {
     std::vector<std::vector<std::int32_t>> ordered;
     for (std::int32_t root : order)
       ordered.push_back(std::move(sets[root]));
+    stream_connections(ordered);
     semilinear_connections(ordered);
     drop_repeated_equations();
     when_assignments_to_reinits();

@@ -771,6 +771,8 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
     }
     if (name == "cardinality")
       return cardinality(e, s);
+    if (name == "inStream" || name == "actualStream")
+      return stream_operator(e, s);
     if (name == "size") {
       want_args(1, 2);
       // A function's local array has its size before it is assigned.

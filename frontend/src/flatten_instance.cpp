@@ -417,8 +417,9 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
   inst.is_flow = comp.connection == ast::Connection::Flow || parent.is_flow;
   inst.is_enumeration = rt.is_enumeration;
   inst.is_connector = rt.is_connector;
-  if (comp.connection == ast::Connection::Stream)
-    fail(DiagId::Unsupported, comp.range, "stream connectors are not supported");
+  inst.is_stream = comp.connection == ast::Connection::Stream || parent.is_stream;
+  if (comp.connection == ast::Connection::Stream && !parent.is_connector)
+    fail(DiagId::Unsupported, comp.range, "'stream' is allowed only on a component of a connector (MLS 15.1)");
   std::optional<Tensor> bound; // the binding, when ':' sizes come from it
   for (std::size_t i = 0; i < comp.dims.size(); ++i) {
     const auto &d = comp.dims[i];
@@ -497,6 +498,7 @@ void Flattener::make_elements(Instance &inst, const ast::Component &comp, const 
     el->variability = inst.variability;
     el->causality = inst.causality;
     el->is_flow = inst.is_flow;
+    el->is_stream = inst.is_stream;
     el->is_connector = inst.is_connector;
     el->expandable = inst.expandable;
     el->is_enumeration = inst.is_enumeration;
@@ -544,6 +546,7 @@ void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifi
     v.variability = Variability::Discrete; // Integer/Boolean variables change only at events
   v.causality = inst.causality;
   v.is_flow = inst.is_flow;
+  v.is_stream = inst.is_stream;
   // Inputs of the model itself are known signals. In Xcos' flat files the
   // `input` prefix of a connector is copied onto nested names (`f.signal`):
   // those are connected inside the model and stay unknowns.
@@ -555,6 +558,8 @@ void Flattener::make_scalar(Instance &inst, const ResolvedType &rt, const Modifi
   if (model_->find(v.name) >= 0)
     fail(DiagId::DuplicateDeclaration, v.range, "two components flatten to the same name '" + v.name + "'");
   inst.var = model_->add(std::move(v));
+  if (inst.is_stream)
+    stream_vars_[inst.var] = &inst;
   static const char *const kAttributes[] = {"start", "fixed", "min", "max", "nominal", "unit",
                                             "displayUnit", "quantity", "stateSelect", "free",
                                             "initialGuess"};

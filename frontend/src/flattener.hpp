@@ -120,6 +120,7 @@ struct Instance {
   std::int32_t var = -1;   ///< scalar of a built-in type
   bool is_connector = false;
   bool is_flow = false;
+  bool is_stream = false; ///< `stream` (MLS 15.1): carried by its connector's flow
   /// An `expandable connector`: its declared elements are only potentially
   /// present (Flattener::potential_) until a connection or a reference
   /// needs them (flatten_expandable.cpp).
@@ -818,6 +819,18 @@ public:
   /// 3.7.2.5, rule 1): the first one's flow equation becomes the one for the
   /// shared potential (flatten_semilinear.cpp). `sets`: the connection sets.
   void semilinear_connections(const std::vector<std::vector<std::int32_t>> &sets);
+  // -- stream connectors (flatten_stream.cpp, MLS 15)
+  /// inStream(v) and actualStream(v), element by element: inStream stays a
+  /// call of the stream variable until the connection sets are known.
+  Tensor stream_operator(const ast::Expr &call, const Scope &s);
+  /// The flow variable of the connector that stream variable `v` belongs to.
+  std::int32_t stream_flow(std::int32_t v, SourceRange where);
+  /// The equations of the outside connectors' stream variables, and every
+  /// inStream() replaced by its value from the sets (`sets`: set elements
+  /// 2*var + 1 if seen from outside).
+  void stream_connections(const std::vector<std::vector<std::int32_t>> &sets);
+  /// Stream variables: their scalar instances, by variable.
+  std::unordered_map<std::int32_t, const Instance *> stream_vars_;
   /// Inputs no equation defines become inputs of the model (flatten_free_inputs.cpp).
   void mark_free_inputs();
   /// `v = e` in a when-clause with der(v) elsewhere becomes reinit(v, e) (flatten_free_inputs.cpp).

@@ -31,6 +31,7 @@ struct Variable {
   ast::Variability variability = ast::Variability::Continuous;
   ast::Causality causality = ast::Causality::None;
   bool is_flow = false;
+  bool is_stream = false; ///< a `stream` connector variable (no connection equations of its own)
   bool top_level_input = false; ///< an input of the model itself: known, not solved for
   /// The start attribute is the author's, not the declaring class's default:
   /// a user of that class (a modification from outside it) wrote the start,
