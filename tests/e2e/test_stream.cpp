@@ -46,7 +46,7 @@ TEST_CASE("stream variables of outside connectors carry the mixing through the h
   }
 }
 
-TEST_CASE("actualStream follows the flow's direction; an unconnected port's inStream is its own outflow",
+TEST_CASE("actualStream follows the flow's direction, and an unconnected port's inStream is its own outflow",
           "[stream]") {
   const double pi = std::numbers::pi;
   const auto r = run_data_model("e2e_stream_reversal", "StreamMixing.mo", "StreamMixing.Reversal", 2 * pi, 40);
