@@ -489,6 +489,9 @@ void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<as
       if (call.args.size() < 2 || call.args.size() > 3)
         fail(DiagId::WrongArgumentCount, call.range, "assert() takes 2 or 3 arguments");
     } else if (n != "terminate") {
+      // A function called as an equation, for its checks (no equation).
+      if (ClassNode *callee = call.resolved ? nullptr : lookup_function(call, s); callee && call_statement(callee, call, s))
+        return;
       fail(DiagId::Unsupported, call.range, "'" + n + "(...)' cannot be used as an equation");
     }
     Tensor first = call.args.empty() ? Tensor{} : expr(*call.args[0], s);

@@ -1177,7 +1177,7 @@ std::vector<Tensor> inline_path(Flattener &f, ClassNode *fn, const Signature &si
   for (const auto &[body, owner] : sig.algorithms)
     in.run(*body, owner);
   std::vector<Tensor> out;
-  for (std::size_t i = 0; i < std::max<std::size_t>(wanted, 1); ++i) {
+  for (std::size_t i = 0; i < wanted; ++i) {
     const std::string &name = sig.outputs[i].first->name;
     Tensor &t = in.values.at(name);
     for (const auto &e : t.elems)
@@ -1319,8 +1319,19 @@ std::vector<int> vectorized_dims(Flattener &f, const Signature &sig, const std::
 
 bool Flattener::call_statement(ClassNode *fn, const Expr &call, const Scope &s) {
   const ast::ClassDef &def = *fn->def;
-  if (!def.is_external || def.external_language != "C")
+  if (!def.is_external) {
+    // A Modelica function called for its checks (Fluid's checkBoundary):
+    // inlined, its outputs unused; its asserts are dropped as any inlined
+    // function's are.
+    call_function(fn, call, s, 0);
+    return true;
+  }
+  if (def.external_language != "C")
     return false;
+  // ModelicaError (Modelica.Utilities.Streams.error) ends the run with a
+  // message: a check, dropped like an inlined function's assert.
+  if (def.external_function == "ModelicaError")
+    return true;
   Signature sig;
   collect(*this, fn, sig, 0);
   const std::vector<const Expr *> args = match_arguments(*this, sig, call, fn->path());
@@ -1354,7 +1365,7 @@ std::vector<Tensor> Flattener::call_function(ClassNode *fn, const Expr &call, co
     ~WhenGuard() { n -= on ? 1 : 0; }
   } when_guard{calls_in_when_, s.in_when};
   calls_in_when_ += s.in_when ? 1 : 0;
-  if (wanted > sig.outputs.size() || sig.outputs.empty())
+  if (wanted > sig.outputs.size() || (sig.outputs.empty() && wanted > 0)) // 0: called as a statement
     fail(DiagId::WrongArgumentCount, call.range,
          fmt::format("function '{}' has {} output(s); {} are used", fn_name, sig.outputs.size(),
                      std::max<std::size_t>(wanted, 1)));

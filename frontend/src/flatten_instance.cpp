@@ -103,6 +103,23 @@ static bool same_declaration(const ast::Component &a, const ast::Component &b) {
   return true;
 }
 
+/// Whether modifier `again` of a base inherited a second time gives no
+/// element anything `first` (the first path's) does not: the same bindings
+/// (as written, read in the same instance) and redeclarations.
+static bool modifies_as(const Modifier &again, const Modifier &first) {
+  if (again.binding && (!first.binding || again.scope != first.scope || !ast::same_expr(*again.binding, *first.binding)))
+    return false;
+  if ((again.redecl_class && again.redecl_class != first.redecl_class) ||
+      (again.redecl_component && again.redecl_component != first.redecl_component))
+    return false;
+  for (const auto &[name, sub] : again.sub) {
+    const auto it = first.sub.find(name);
+    if (it == first.sub.end() ? !sub.empty() : !modifies_as(sub, it->second))
+      return false;
+  }
+  return true;
+}
+
 /// The modifier of array element `index`: bindings not marked `each` are
 /// taken at that element.
 static Modifier element_modifier(const Modifier &m, const std::vector<int> &index) {
@@ -196,11 +213,15 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
   replace_classes(inst, mod);
   for (auto &[ext, base] : bases(cls)) {
     // A class inherited along two paths is instantiated once: its elements
-    // are identical duplicates, which Modelica merges (7.3).
-    if (!inherited_.insert({&inst, base->tree_class()}).second) {
-      if (!ext->mod.empty())
+    // are identical duplicates, which Modelica merges (7.3). So are they
+    // when the second path modifies them as the first did (the MSL's
+    // DynamicPipe: PartialTwoPort's `final port_a_exposesState = ...` given
+    // on both of its paths).
+    const auto key = std::make_pair(&inst, static_cast<const ClassNode *>(base->tree_class()));
+    if (const auto seen = inherited_.find(key); seen != inherited_.end()) {
+      if (!ext->mod.empty() && !modifies_as(make_modifier(ext->mod, &inst, cls), seen->second))
         diags_.report(DiagId::DuplicateDeclaration, ext->range,
-                      "'" + ext->base.str() + "' is inherited again with modifiers; only identical "
+                      "'" + ext->base.str() + "' is inherited again with other modifiers; only identical "
                       "duplicates can be merged");
       continue;
     }
@@ -211,6 +232,7 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
     Modifier base_mod = make_modifier(ext->mod, &inst, cls);
     merge_into(base_mod, own);
     merge_into(base_mod, mod);
+    inherited_.emplace(key, base_mod);
     instantiate_class(inst, base, base_mod, depth);
   }
   // Components: `inner` elements before the components whose `outer` ones
@@ -249,7 +271,10 @@ void Flattener::instantiate_class(Instance &inst, ClassNode *cls, const Modifier
       continue;
     }
     if (auto it = inst.member_index.find(c->name); it != inst.member_index.end()) {
-      const ast::Component *prev = it->second->decl;
+      const auto outer = outer_decls_.find({&inst, c->name});
+      const ast::Component *prev = outer != outer_decls_.end() ? outer->second : it->second->decl;
+      if (outer != outer_decls_.end() && c->outer && same_declaration(*prev, *c))
+        continue; // `outer system` of two bases: one alias of the inner
       const bool inherited = prev && std::none_of(def.components.begin(), def.components.end(),
                                                   [&](const ast::Component &d) { return &d == prev; });
       if (inherited && same_declaration(*prev, *c)) {
@@ -384,6 +409,7 @@ void Flattener::instantiate_component(Instance &parent, const ast::Component &co
       fail(DiagId::UnknownComponent, comp.range,
            "no enclosing instance declares an 'inner' element '" + comp.name + "' for this 'outer' one");
     parent.member_index[comp.name] = inner;
+    outer_decls_[{&parent, comp.name}] = &comp;
     return;
   }
   if (comp.condition) {

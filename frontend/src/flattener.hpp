@@ -431,6 +431,8 @@ public:
     bool started = false;
   };
   std::map<MemberKey, Potential> potential_;
+  /// `outer` elements: their declarations (the member is the inner instance).
+  std::map<MemberKey, const ast::Component *> outer_decls_;
   /// The potential element `name` of expandable `inst` made present, or null.
   Instance *present_member(Instance &inst, const std::string &name);
   /// The `inner` element `name` of the nearest instance enclosing `from`, or null.
@@ -630,7 +632,8 @@ public:
   /// without `GenerateEvents = true` whose outputs are all Real): while it is
   /// non-zero, expr() wraps each relation it builds in noEvent().
   unsigned no_event_depth_ = 0;
-  std::set<std::pair<Instance *, const ClassNode *>> inherited_; ///< bases instantiated per instance
+  /// Bases instantiated per instance, with the modifier they were instantiated with.
+  std::map<std::pair<Instance *, const ClassNode *>, Modifier> inherited_;
   std::set<std::pair<const Instance *, std::string>> disabled_; ///< conditional components switched off
 
   // -- external objects and the tables of ModelicaStandardTables

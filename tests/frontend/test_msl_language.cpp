@@ -113,7 +113,7 @@ TEST_CASE("a base inherited along two paths is merged", "[msl]") {
       extends Len(len = 2);
     end Both;)");
   CHECK_FALSE(c.ok());
-  CHECK(contains(c.diagnostics, "'Len' is inherited again with modifiers"));
+  CHECK(contains(c.diagnostics, "'Len' is inherited again with other modifiers"));
 }
 
 TEST_CASE("a connector extending Real is a Real connector", "[msl]") {
