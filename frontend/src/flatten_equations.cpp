@@ -106,6 +106,25 @@ bool Flattener::already_evaluated(const Expr &e) const {
   return true;
 }
 
+bool Flattener::structural(const Expr &e) const {
+  if (!is_constant(e))
+    return false;
+  std::vector<const Expr *> work{&e};
+  while (!work.empty()) {
+    const Expr *x = work.back();
+    work.pop_back();
+    if (x->kind == ExprKind::Ref) {
+      const flat::Variable &v = model_->variables[static_cast<std::size_t>(x->var)];
+      const bool fixed = static_cast<std::size_t>(x->var) < param_state_.size() && param_state_[x->var] == 2 && v.value;
+      if (v.variability != ast::Variability::Constant && !v.evaluate && !fixed)
+        return false;
+    }
+    for (const auto &a : x->args)
+      if (a) work.push_back(a.get());
+  }
+  return true;
+}
+
 void Flattener::flatten_bindings() {
   for (auto &p : pending_) {
     if (!p.mod.binding)

@@ -635,12 +635,16 @@ Tensor Flattener::expr_node(const Expr &e, const Scope &s) {
   case ExprKind::If: {
     // Conditions that are literal after flattening (loop indices) select a
     // branch, and the others are not flattened: the MSL's StateGraph writes
-    // `if i == 1 then localActive else inPort[i-1].occupied` for i = 1.
+    // `if i == 1 then localActive else inPort[i-1].occupied` for i = 1. So do
+    // conditions on parameters marked Evaluate = true: Fluid's
+    // `T_start = if use_T_start then system.T_start else
+    // temperature_phX(p_start, h_start, X_start)` and h_start's binding, the
+    // other way round, only read each other in the branches not taken.
     std::vector<ExprPtr> conds;
     std::vector<Tensor> branches;
     for (std::size_t i = 0; i + 1 < e.args.size(); i += 2) {
       ExprPtr c = scalar_expr(*e.args[i], s);
-      if (!is_literal(*c) && of_literals(*c))
+      if (!is_literal(*c) && (of_literals(*c) || structural(*c)))
         c = literal(eval(*c, e.args[i]->range), e.args[i]->range);
       if (is_literal(*c)) {
         if (c->number != 0 && conds.empty())

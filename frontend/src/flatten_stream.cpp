@@ -185,20 +185,8 @@ void Flattener::stream_connections(const std::vector<std::vector<std::int32_t>> 
   // A bound of a flow known now: literal, or of parameters fixed already or
   // marked Evaluate = true.
   auto known = [&](const ExprPtr &a) -> std::optional<double> {
-    if (!a || !is_constant(*a))
+    if (!a || !structural(*a))
       return std::nullopt;
-    std::vector<const Expr *> work{a.get()};
-    while (!work.empty()) {
-      const Expr *x = work.back();
-      work.pop_back();
-      if (x->kind == ExprKind::Ref) {
-        const flat::Variable &p = model_->variables[static_cast<std::size_t>(x->var)];
-        if (!p.value || !(p.evaluate || already_evaluated(*x)))
-          return std::nullopt;
-      }
-      for (const auto &c : x->args)
-        if (c) work.push_back(c.get());
-    }
     return eval(*a, a->range);
   };
   // The members of element e's set other than e that can bring flow in,

@@ -848,6 +848,10 @@ public:
   /// branch, bounded a loop): deciding on it now changes nothing that a later
   /// parameter value could still change, and cannot fail.
   bool already_evaluated(const ast::Expr &flat_expr) const;
+  /// True if `flat_expr` (of parameters, is_constant) reads only constants,
+  /// parameters marked `Evaluate = true` and parameters already fixed
+  /// (already_evaluated): its value is part of the model's structure, known now.
+  bool structural(const ast::Expr &flat_expr) const;
 };
 
 } // namespace detail
