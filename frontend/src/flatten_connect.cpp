@@ -252,7 +252,11 @@ void Flattener::finish_connections() {
     std::vector<std::vector<std::int32_t>> ordered;
     for (std::int32_t root : order)
       ordered.push_back(std::move(sets[root]));
-    stream_connections(ordered);
+    try {
+      stream_connections(ordered);
+    } catch (Reported &) {
+      return; // reported (a stream connector without its one flow)
+    }
     semilinear_connections(ordered);
     drop_repeated_equations();
     when_assignments_to_reinits();
