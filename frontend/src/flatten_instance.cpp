@@ -383,9 +383,28 @@ Instance *Flattener::present_member(Instance &inst, const std::string &name) {
 Instance *Flattener::find_inner(const Instance &from, const std::string &name) {
   for (const Instance *p = from.parent; p; p = p->parent)
     if (auto it = p->member_index.find(name); it != p->member_index.end())
-      if (it->second->decl && it->second->decl->inner)
+      if ((it->second->decl && it->second->decl->inner) || default_inners_.count(it->second))
         return it->second;
   return nullptr;
+}
+
+Instance *Flattener::default_inner(const ast::Component &outer, ClassNode *cls, unsigned depth) {
+  if (top_->member_index.count(outer.name) || later_members_.count({top_.get(), outer.name}) || making_default_inner_)
+    return nullptr; // the model's own element of that name (made or still to come) is not an inner one
+  diags_.report(DiagId::DefaultInner, outer.range,
+                "no enclosing instance declares an 'inner' element '" + outer.name + "' for this 'outer' one; "
+                "the model gets one of type '" + outer.type.str() + "' with its default values (MLS 5.4)");
+  making_default_inner_ = &outer;
+  try {
+    instantiate_component(*top_, outer, cls, Modifier{}, depth);
+  } catch (...) {
+    making_default_inner_ = nullptr;
+    throw;
+  }
+  making_default_inner_ = nullptr;
+  Instance *inner = top_->member_index.at(outer.name);
+  default_inners_.insert(inner);
+  return inner;
 }
 
 void Flattener::check_modifier_names(const Instance &inst, const Modifier &mod) {
@@ -401,10 +420,12 @@ void Flattener::check_modifier_names(const Instance &inst, const Modifier &mod) 
 void Flattener::instantiate_component(Instance &parent, const ast::Component &comp, ClassNode *cls,
                                       Modifier mod, unsigned depth) {
   Scope here{&parent, cls, nullptr};
-  if (comp.outer) {
+  if (comp.outer && making_default_inner_ != &comp) {
     // The nearest enclosing instance's `inner` element of that name (MLS 5.4):
     // the outer name becomes an alias of it in this instance.
     Instance *inner = find_inner(parent, comp.name);
+    if (!inner)
+      inner = default_inner(comp, cls, depth);
     if (!inner)
       fail(DiagId::UnknownComponent, comp.range,
            "no enclosing instance declares an 'inner' element '" + comp.name + "' for this 'outer' one");

@@ -437,6 +437,12 @@ public:
   Instance *present_member(Instance &inst, const std::string &name);
   /// The `inner` element `name` of the nearest instance enclosing `from`, or null.
   Instance *find_inner(const Instance &from, const std::string &name);
+  /// The `inner` element an `outer` one without any gets (MLS 5.4: tools may
+  /// add one): an element of the model itself, of the outer's type with its
+  /// defaults, added once per name with a warning.
+  Instance *default_inner(const ast::Component &outer, ClassNode *cls, unsigned depth);
+  std::set<const Instance *> default_inners_;
+  const ast::Component *making_default_inner_ = nullptr;
 
   // -- redeclarations (flatten_redeclare.cpp)
   /// Fills `node` with the redeclaration `em` (a component or a class),

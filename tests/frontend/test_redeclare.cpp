@@ -114,12 +114,31 @@ TEST_CASE("bad redeclarations are reported at the redeclaration", "[redeclare]")
   }
 }
 
-TEST_CASE("an outer element without an enclosing inner one is reported", "[redeclare][inner]") {
+TEST_CASE("an outer element without an enclosing inner one gets a default inner, with a warning",
+          "[redeclare][inner]") {
+  // As Dymola and OpenModelica do (MLS 5.4 lets tools add it): a Fluid
+  // component checked alone has `outer System system` and no inner one.
+  const Compiled c = compile({{"m.mo", R"(
+    model M
+      model E parameter Real k = 2; Real x = k * time; end E;
+      model U outer E e; Real y = e.x; end U;
+      U u, v;
+    end M;)"}});
+  REQUIRE(c.ok());
+  CHECK(contains(c.diagnostics, "m.mo:4:23: warning: no enclosing instance declares an 'inner' element 'e' for "
+                                "this 'outer' one; the model gets one of type 'E' with its default values"));
+  CHECK(c.diagnostics.find("warning") == c.diagnostics.rfind("warning")); // one inner for both outers
+  const std::string flat = c.model->print();
+  CHECK(contains(flat, "parameter Real `e.k` = 2;"));
+  CHECK(contains(flat, "`u.y` = `e.x`;"));
+  CHECK(contains(flat, "`v.y` = `e.x`;"));
+  // The model's own element of that name is not an inner one: an error.
   const std::string d = errors_of(R"(
     model M
       model E Real x = time; end E;
       model U outer E e; Real y = e.x; end U;
       U u;
+      Real e = 1;
     end M;)");
   CHECK(contains(d, "m.mo:4:23: error: no enclosing instance declares an 'inner' element 'e' for this 'outer' one"));
 }
