@@ -389,7 +389,9 @@ Instance *Flattener::find_inner(const Instance &from, const std::string &name) {
 }
 
 Instance *Flattener::default_inner(const ast::Component &outer, ClassNode *cls, unsigned depth) {
-  if (top_->member_index.count(outer.name) || later_members_.count({top_.get(), outer.name}) || making_default_inner_)
+  const auto later = later_members_.find({top_.get(), outer.name});
+  if (top_->member_index.count(outer.name) || (later != later_members_.end() && later->second.comp != &outer) ||
+      making_default_inner_)
     return nullptr; // the model's own element of that name (made or still to come) is not an inner one
   diags_.report(DiagId::DefaultInner, outer.range,
                 "no enclosing instance declares an 'inner' element '" + outer.name + "' for this 'outer' one; "

@@ -132,6 +132,15 @@ TEST_CASE("an outer element without an enclosing inner one gets a default inner,
   CHECK(contains(flat, "parameter Real `e.k` = 2;"));
   CHECK(contains(flat, "`u.y` = `e.x`;"));
   CHECK(contains(flat, "`v.y` = `e.x`;"));
+  // The outer of a class the model extends (a component checked alone) too.
+  const Compiled own = compile({{"m.mo", R"(
+    model M
+      model E parameter Real k = 2; Real x = k * time; end E;
+      model U outer E e; Real y = e.x; end U;
+      extends U;
+    end M;)"}});
+  REQUIRE(own.ok());
+  CHECK(contains(own.model->print(), "y = `e.x`;"));
   // The model's own element of that name is not an inner one: an error.
   const std::string d = errors_of(R"(
     model M
