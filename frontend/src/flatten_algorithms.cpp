@@ -43,12 +43,6 @@ Values clone_values(const Values &v) {
   return out;
 }
 
-ExprPtr var_ref(const flat::Model &m, std::int32_t v, SourceRange r) {
-  ExprPtr e = ast::make_ref(m.variables[v].name, r);
-  e->var = v;
-  return e;
-}
-
 /// The names a statement list assigns (first part of each target), with
 /// `when` statements' apart; iterative.
 void assigned_names(const std::vector<Statement> &body, std::vector<const Expr *> &plain,
@@ -562,6 +556,12 @@ private:
 };
 
 } // namespace
+
+ExprPtr var_ref(const flat::Model &m, std::int32_t v, SourceRange r) {
+  ExprPtr e = ast::make_ref(m.variables[static_cast<std::size_t>(v)].name, r);
+  e->var = v;
+  return e;
+}
 
 void Flattener::algorithm_section(const ast::AlgorithmSection &alg, const Scope &s, std::vector<ast::Equation> &out) {
   SectionRunner(*this, alg, s, out).run();

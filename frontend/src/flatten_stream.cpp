@@ -47,12 +47,6 @@ bool is_in_stream(const Expr &e) {
          e.ref.parts[0].name == "inStream";
 }
 
-ExprPtr var_ref(const flat::Model &m, std::int32_t v, SourceRange r) {
-  ExprPtr e = ast::make_ref(m.variables[static_cast<std::size_t>(v)].name, r);
-  e->var = v;
-  return e;
-}
-
 ExprPtr no_event(ExprPtr e, SourceRange r) { return ast::make_call1("noEvent", std::move(e), r); }
 
 ExprPtr positive_part(ExprPtr x, SourceRange r) {

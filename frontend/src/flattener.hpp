@@ -243,6 +243,9 @@ struct Scope {
   const FunctionLocals *locals = nullptr; ///< inside a function body being inlined
 };
 
+/// A reference to flat variable `v` of `m` (its name, resolved).
+ast::ExprPtr var_ref(const flat::Model &m, std::int32_t v, SourceRange r);
+
 /// `terms` joined by `join` (a + b, a * b, min(a, b)): left to right as
 /// written up to 256 terms, beyond as a balanced tree of such runs, so that a
 /// long sum (`a * b` of 40000-element vectors, a large connection set) nests
