@@ -151,6 +151,9 @@ void Flattener::flatten_bindings() {
         model_->variables[p.var].attr.state_select = kLevels[static_cast<int>(level) - 1];
         continue;
       }
+      const flat::Variable &declared = model_->variables[p.var];
+      const Flag on(intermediates_on_, a.empty() && declared.type == flat::BaseType::Real &&
+                                           declared.variability == ast::Variability::Continuous);
       ExprPtr e = binding_expr(p.mod);
       flat::Variable &var = model_->variables[p.var];
       ValueKind got = value_kind(*e, *model_);
@@ -221,6 +224,7 @@ void Flattener::flatten_equations(Instance &top) {
       if (only_connections(*eq))
         continue;
       try {
+        const Flag continuous(continuous_section_, true);
         equation(*eq, Scope{inst, cls, nullptr}, model_->equations);
       } catch (Reported &) {
       }
@@ -258,6 +262,7 @@ void Flattener::flatten_equations(Instance &top) {
         model_->initial_equations.push_back(std::move(e));
     }
   }
+  flush_intermediates();
   if (top.cls->def->restriction == ast::Restriction::Optimization)
     flatten_optimization();
   else if (!top.constraints.empty())
@@ -403,6 +408,8 @@ void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<as
   switch (eq.kind) {
   case EquationKind::Simple:
   case EquationKind::Constraint: {
+    const Flag on(intermediates_on_, eq.kind == EquationKind::Simple && continuous_section_ && !s.in_when &&
+                                         !s.in_optimization);
     if (eq.kind == EquationKind::Simple && eq.lhs->kind == ast::ExprKind::Tuple) {
       tuple_equation(eq, s, out);
       return;
@@ -446,6 +453,7 @@ void Flattener::equation(const ast::Equation &eq, const Scope &s, std::vector<as
         return;
       }
       ast::EquationBranch fb{std::move(c), {}, b.range};
+      const Flag varying(continuous_section_, false); // would be computed outside the branch
       for (const auto &x : b.body)
         equation(x, s, fb.body);
       f.branches.push_back(std::move(fb));

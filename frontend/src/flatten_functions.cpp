@@ -468,7 +468,12 @@ bool has_jump(const std::vector<Statement> &body) {
 /// or count stay small.
 class Inliner {
 public:
-  Inliner(Flattener &f, ClassNode *fn, Decisions &decisions) : f_(f), fn_(fn), decisions_(decisions) {}
+  Inliner(Flattener &f, ClassNode *fn, Decisions &decisions)
+      : f_(f), fn_(fn), decisions_(decisions), guards_at_start_(f.inline_guards_.size()) {}
+  /// The decisions of this path held only in it (also when it leaves by an exception).
+  ~Inliner() { f_.inline_guards_.resize(guards_at_start_); }
+  Inliner(const Inliner &) = delete;
+  Inliner &operator=(const Inliner &) = delete;
 
   FunctionLocals values;
 
@@ -506,6 +511,7 @@ private:
   Flattener &f_;
   ClassNode *fn_;
   Decisions &decisions_;
+  std::size_t guards_at_start_;
   ClassNode *cls_ = nullptr;
   LoopEnv env_;
   bool returned_ = false, broke_ = false;
@@ -518,6 +524,19 @@ private:
     double lo, hi;
   };
   std::vector<IndexBound> *pending_ = nullptr;
+
+  /// `c` (or `not c`) holds for the statements run while it lives (see
+  /// Flattener::inline_guards_).
+  struct Guard {
+    std::vector<ExprPtr> &guards;
+    std::size_t size;
+    Guard(std::vector<ExprPtr> &g, const Expr &c, bool holds, SourceRange r) : guards(g), size(g.size()) {
+      guards.push_back(holds ? c.clone() : ast::make_unary(Op::Not, c.clone(), r));
+    }
+    ~Guard() { guards.resize(size); }
+    Guard(const Guard &) = delete;
+    Guard &operator=(const Guard &) = delete;
+  };
 
   /// condition(c), with the bounds its subscripts give in `out`.
   ExprPtr condition_with_bounds(const Expr &c, std::vector<IndexBound> &out) {
@@ -590,6 +609,8 @@ private:
     }
     const bool outcome = decisions_.taken[decisions_.next++];
     learn(c, outcome);
+    // For the rest of this run (the Inliner's destructor drops it).
+    f_.inline_guards_.push_back(outcome ? c.clone() : ast::make_unary(Op::Not, c.clone(), c.range));
     return outcome;
   }
 
@@ -742,7 +763,10 @@ private:
       if (auto it = values.find(name); it != values.end())
         before.emplace(name, clone_tensor(it->second));
     const auto bounds_before = decisions_.bounds; // facts in a branch hold only there
-    exec(b.body);
+    {
+      Guard g(f_.inline_guards_, *c, true, b.range);
+      exec(b.body);
+    }
     decisions_.bounds = bounds_before;
     if (returned_ || broke_)
       unsupported(b.range, "'return' or 'break' under a condition that varies in time");
@@ -752,7 +776,10 @@ private:
       then_values.emplace(name, std::move(now));
       now = std::move(t);
     }
-    exec_if(branches, i + 1);
+    {
+      Guard g(f_.inline_guards_, *c, false, b.range);
+      exec_if(branches, i + 1);
+    }
     decisions_.bounds = bounds_before;
     if (returned_ || broke_)
       unsupported(b.range, "'return' or 'break' under a condition that varies in time");
@@ -771,7 +798,7 @@ private:
         n->args.push_back(c->clone());
         n->args.push_back(std::move(a.elems[k]));
         n->args.push_back(std::move(t.elems[k]));
-        t.elems[k] = std::move(n);
+        t.elems[k] = f_.intermediate(std::move(n), fn_, name, b.range);
       }
     }
   }
@@ -825,6 +852,8 @@ private:
 private:
   void assign(const Expr &target, Tensor value) {
     f_.fold_numbers(value);
+    for (auto &e : value.elems)
+      e = f_.intermediate(std::move(e), fn_, target.ref.str(), target.range);
     for (const auto &e : value.elems)
       if (e && too_large_value(*e, f_.max_value_nodes()))
         unsupported(target.range, fmt::format("the value assigned to '{}' grows beyond {} levels or {} terms "
@@ -1274,7 +1303,7 @@ std::vector<Tensor> inline_call(Flattener &f, ClassNode *fn, const Signature &si
         e->args.push_back(node.condition->clone());
         e->args.push_back(std::move(yes[k].elems[j]));
         e->args.push_back(std::move(no[k].elems[j]));
-        yes[k].elems[j] = std::move(e);
+        yes[k].elems[j] = f.intermediate(std::move(e), fn, sig.outputs[k].first->name, call.range);
       }
     }
     node.outs = std::move(yes);

@@ -283,6 +283,16 @@ bool too_large_value(const ast::Expr &e, std::size_t max_nodes);
 /// reported for the current equation or binding.
 struct Reported {};
 
+/// Sets a flag for its lifetime, then gives it back the value it had.
+struct Flag {
+  bool &flag;
+  bool saved;
+  Flag(bool &f, bool value) : flag(f), saved(f) { flag = value; }
+  ~Flag() { flag = saved; }
+  Flag(const Flag &) = delete;
+  Flag &operator=(const Flag &) = delete;
+};
+
 /// The scalar equations of the balance count, each as the unknowns it uses:
 /// equation_count(eq) rows per equation, except that a variable assigned in
 /// when-clauses is one row however many clauses assign it.
@@ -636,6 +646,34 @@ public:
   /// declared binding where it has one and null elements elsewhere.
   Tensor record_defaults(const std::shared_ptr<const RecordLayout> &layout, const std::vector<int> &dims,
                          SourceRange where);
+  // -- named intermediates of inlined functions (flatten_intermediates.cpp)
+  /// The most nodes a value an inlined function computes keeps as an
+  /// expression where it may become a variable (intermediate()).
+  static constexpr std::size_t kIntermediateNodes = 200;
+  /// True if `value` is a number that varies in time and is a function of
+  /// present values only (no der, pre, ...): it can be a continuous variable.
+  bool intermediate_candidate(const ast::Expr &value) const;
+  /// While a continuous equation is flattened (intermediates_on_): `value`,
+  /// computed by inlined function `fn` for its local `local`, as a new
+  /// variable defined by it if it has more than kIntermediateNodes nodes and
+  /// is a candidate; defined under inline_guards_ (else 0); one variable per
+  /// distinct value. Otherwise `value` itself.
+  ast::ExprPtr intermediate(ast::ExprPtr value, ClassNode *fn, const std::string &local, SourceRange where);
+  /// Moves the intermediates' equations into the model.
+  void flush_intermediates();
+  /// Set while a continuous equation (not initial, not in a when-clause or
+  /// an if-equation on varying conditions) or a continuous variable's
+  /// binding is flattened.
+  bool intermediates_on_ = false;
+  /// Set while the equations of the models' equation sections are flattened
+  /// (flatten_equations), cleared inside if-equations on varying conditions.
+  bool continuous_section_ = false;
+  /// The varying conditions that hold where the statement being inlined
+  /// runs: the branches of `if`s around it and the decisions of its path.
+  std::vector<ast::ExprPtr> inline_guards_;
+  std::unordered_map<std::string, std::int32_t> intermediate_by_text_;
+  std::vector<ast::Equation> intermediate_equations_;
+  unsigned intermediate_count_ = 0;
   unsigned function_depth_ = 0;
   /// Functions being inlined whose relations generate no events (those
   /// without `GenerateEvents = true` whose outputs are all Real): while it is
