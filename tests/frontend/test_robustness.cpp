@@ -261,6 +261,90 @@ TEST_CASE("a call of parameters whose inlined value grows large is evaluated ins
   CHECK(t.diagnostics.find("warning") == std::string::npos);
 }
 
+TEST_CASE("intermediates: only where a continuous equation calls the function, one per distinct value",
+          "[robust][functions]") {
+  // Each run of the loop reads s eight times: grow(x, 5) inlined as a tree
+  // is 8^5 copies of x (300 000 characters), grow(x, 3) 960 nodes.
+  const std::string src = R"(
+    function grow
+      input Real x;
+      input Integer n;
+      output Real s;
+    algorithm
+      s := x;
+      for i in 1:n loop
+        if s > 1 then
+          s := s*s - s/(s + 1);
+        else
+          s := s + 0.5*s*s;
+        end if;
+      end for;
+    end grow;
+    model Once
+      Real x(start = 0.1, fixed = true);
+      Real y;
+    equation
+      der(x) = -x;
+      y = grow(x, 5);
+    end Once;
+    model Again "the same call twice and as a binding: the same variables"
+      Real x(start = 0.1, fixed = true);
+      Real y;
+      Real z;
+      Real b = 3*grow(x, 5);
+    equation
+      der(x) = -x;
+      y = grow(x, 5);
+      z = 2*grow(x, 5);
+    end Again;
+    model Elsewhere "a parameter, a when-clause, an if-equation on a varying condition, an initial equation"
+      parameter Real p = 0.3;
+      parameter Real q = grow(p, 3);
+      Real x(start = 0.1, fixed = true);
+      discrete Real w;
+      Real v;
+      Real u;
+    initial equation
+      u = grow(x, 3);
+    equation
+      der(x) = -x;
+      der(u) = 1;
+      when x < 0.05 then
+        w = grow(x, 3);
+      end when;
+      if x > 0.05 then
+        v = grow(x, 3);
+      else
+        v = 0;
+      end if;
+    end Elsewhere;)";
+  auto intermediates = [](const Compiled &c) {
+    return std::count_if(c.model->variables.begin(), c.model->variables.end(),
+                         [](const auto &v) { return v.name.rfind("_fn", 0) == 0; });
+  };
+  Compiled once = compile({{"grow.mo", src}}, "Once");
+  INFO(once.diagnostics);
+  REQUIRE(once.ok());
+  const auto n = intermediates(once);
+  CHECK(n > 0);
+  const std::string printed = once.model->print();
+  INFO(printed);
+  CHECK(printed.size() < 30000);
+  Compiled again = compile({{"grow.mo", src}}, "Again");
+  INFO(again.diagnostics);
+  REQUIRE(again.ok());
+  CHECK(intermediates(again) == n);
+  Compiled elsewhere = compile({{"grow.mo", src}}, "Elsewhere");
+  INFO(elsewhere.diagnostics);
+  REQUIRE(elsewhere.ok());
+  CHECK(intermediates(elsewhere) == 0);
+  // The flat text, intermediates and all, flattens to itself.
+  Compiled back = compile({{"once.mo", printed}});
+  INFO(back.diagnostics);
+  REQUIRE(back.ok());
+  CHECK(back.model->print() == printed);
+}
+
 TEST_CASE("an array or a model beyond the element limit is a diagnostic, before it is built", "[robust]") {
   // Each of these took minutes and tens of GB before it was refused.
   const std::vector<std::pair<std::string, std::string>> cases = {
