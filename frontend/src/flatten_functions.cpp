@@ -470,8 +470,12 @@ class Inliner {
 public:
   Inliner(Flattener &f, ClassNode *fn, Decisions &decisions)
       : f_(f), fn_(fn), decisions_(decisions), guards_at_start_(f.inline_guards_.size()) {}
-  /// The decisions of this path held only in it (also when it leaves by an exception).
-  ~Inliner() { f_.inline_guards_.resize(guards_at_start_); }
+  /// The guards and decisions of this run hold only in it (also when it
+  /// leaves by an exception).
+  ~Inliner() {
+    f_.inline_guards_.resize(guards_at_start_);
+    f_.decided_paths_ -= decided_ ? 1 : 0;
+  }
   Inliner(const Inliner &) = delete;
   Inliner &operator=(const Inliner &) = delete;
 
@@ -512,6 +516,7 @@ private:
   ClassNode *fn_;
   Decisions &decisions_;
   std::size_t guards_at_start_;
+  bool decided_ = false; ///< this run has taken a decision (counted in Flattener::decided_paths_)
   ClassNode *cls_ = nullptr;
   LoopEnv env_;
   bool returned_ = false, broke_ = false;
@@ -609,8 +614,10 @@ private:
     }
     const bool outcome = decisions_.taken[decisions_.next++];
     learn(c, outcome);
-    // For the rest of this run (the Inliner's destructor drops it).
-    f_.inline_guards_.push_back(outcome ? c.clone() : ast::make_unary(Op::Not, c.clone(), c.range));
+    if (!decided_) { // this run's values hold on its path only: no intermediates (see decided_paths_)
+      decided_ = true;
+      ++f_.decided_paths_;
+    }
     return outcome;
   }
 

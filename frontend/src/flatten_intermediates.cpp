@@ -27,12 +27,12 @@ using ast::Op;
 namespace {
 
 /// Calls whose value is not a function of the present values of their
-/// arguments (or that later passes resolve), which an intermediate may not
-/// hold: it is computed as a plain continuous equation.
+/// arguments, which an intermediate may not hold: it is computed as a plain
+/// continuous equation. (inStream and actualStream are: the intermediates'
+/// equations join the model's before flatten_stream.cpp resolves them.)
 bool operator_on_time(const std::string &n) {
   static const char *const kNames[] = {
-      "der", "pre", "initial", "terminal", "sample", "edge", "change", "delay", "inStream", "actualStream",
-      "reinit", "cardinality", "spatialDistribution", "previous", "hold", "subSample", "superSample",
+      "der", "pre", "initial", "terminal", "sample", "edge", "change", "delay", "reinit", "cardinality", "spatialDistribution", "previous", "hold", "subSample", "superSample",
       "shiftSample", "backSample", "noClock", "interval", "firstTick", "Clock"};
   for (const char *k : kNames)
     if (n == k)
@@ -97,7 +97,8 @@ bool Flattener::intermediate_candidate(const Expr &value) const {
 }
 
 ExprPtr Flattener::intermediate(ExprPtr value, ClassNode *fn_class, const std::string &local, SourceRange where) {
-  if (!intermediates_on_ || !value || !too_large_value(*value, kIntermediateNodes) || !intermediate_candidate(*value))
+  if (!intermediates_on_ || decided_paths_ > 0 || !value || !too_large_value(*value, kIntermediateNodes) ||
+      !intermediate_candidate(*value))
     return value;
   if (!inline_guards_.empty() && no_event_depth_ == 0)
     return value; // the guards' relations would generate events (see intermediate_candidate)

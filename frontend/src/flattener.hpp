@@ -669,8 +669,14 @@ public:
   /// (flatten_equations), cleared inside if-equations on varying conditions.
   bool continuous_section_ = false;
   /// The varying conditions that hold where the statement being inlined
-  /// runs: the branches of `if`s around it and the decisions of its path.
+  /// runs: the branches of the `if`s around it.
   std::vector<ast::ExprPtr> inline_guards_;
+  /// Runs of inlined functions under way that have taken a decision (a
+  /// varying condition around a return, break or while: inline_call runs
+  /// the algorithm once per way). Their values make no intermediates: a
+  /// root finder's while-loop takes thousands of ways, each guarded by all
+  /// its decisions.
+  unsigned decided_paths_ = 0;
   std::unordered_map<std::string, std::int32_t> intermediate_by_text_;
   std::vector<ast::Equation> intermediate_equations_;
   unsigned intermediate_count_ = 0;
