@@ -7,15 +7,18 @@
 // saturation pressure through three locals), and a few dozen statements
 // reach millions of terms. Where a continuous equation is being flattened,
 // a value past kIntermediateNodes that varies in time becomes a variable of
-// the model instead, with its defining equation; the value read from then on
-// is a reference to it. A value computed under varying conditions (a branch
-// of an `if` in the function) is defined only where they hold (else 0), so
-// that a value the branch guards (a division by what is zero elsewhere) is
-// never computed outside it and neither is its derivative.
+// the model instead, with its defining equation (one of parameters only, a
+// parameter with that binding); the value read from then on is a reference
+// to it. A value computed under varying conditions (a branch of an `if` in
+// the function) is defined only where they hold (else 0), so that a value
+// the branch guards (a division by what is zero elsewhere) is never computed
+// outside it and neither is its derivative.
 #include "flattener.hpp"
 #include "mo/frontend/printer.hpp"
 
 #include <fmt/format.h>
+
+#include <algorithm>
 
 namespace mo::frontend::detail {
 
@@ -32,8 +35,9 @@ namespace {
 /// equations join the model's before flatten_stream.cpp resolves them.)
 bool operator_on_time(const std::string &n) {
   static const char *const kNames[] = {
-      "der", "pre", "initial", "terminal", "sample", "edge", "change", "delay", "reinit", "cardinality", "spatialDistribution", "previous", "hold", "subSample", "superSample",
-      "shiftSample", "backSample", "noClock", "interval", "firstTick", "Clock"};
+      "der", "pre", "initial", "terminal", "sample", "edge", "change", "delay", "reinit", "cardinality",
+      "spatialDistribution", "previous", "hold", "subSample", "superSample", "shiftSample", "backSample",
+      "noClock", "interval", "firstTick", "Clock"};
   for (const char *k : kNames)
     if (n == k)
       return true;
@@ -47,7 +51,8 @@ bool is_relation(const Expr &e) {
 
 } // namespace
 
-bool Flattener::intermediate_candidate(const Expr &value) const {
+Flattener::IntermediateKind Flattener::intermediate_kind(const Expr &value) const {
+  using K = IntermediateKind;
   // A number, not a Boolean or a String.
   const Expr *top = &value;
   while (top->kind == ExprKind::If)
@@ -55,10 +60,10 @@ bool Flattener::intermediate_candidate(const Expr &value) const {
   if (top->kind == ExprKind::Boolean || top->kind == ExprKind::String || is_relation(*top) ||
       (top->kind == ExprKind::Binary && (top->op == Op::And || top->op == Op::Or)) ||
       (top->kind == ExprKind::Unary && top->op == Op::Not))
-    return false;
+    return K::None;
   if (top->kind == ExprKind::Ref && top->var >= 0 && model_->variables[top->var].type != flat::BaseType::Real)
-    return false;
-  bool varying = false;
+    return K::None;
+  bool varying = false, parameters = false;
   std::vector<const Expr *> work{&value};
   while (!work.empty()) {
     const Expr *x = work.back();
@@ -70,22 +75,23 @@ bool Flattener::intermediate_candidate(const Expr &value) const {
       } else {
         const flat::Variable &v = model_->variables[x->var];
         if (v.type == flat::BaseType::String)
-          return false;
+          return K::None;
         varying = varying || v.is_unknown() || v.top_level_input;
+        parameters = parameters || v.variability == ast::Variability::Parameter;
       }
       break;
     case ExprKind::Call:
       if (x->var >= 0 || x->ref.parts.empty() || operator_on_time(x->ref.parts[0].name))
-        return false;
+        return K::None;
       break;
     case ExprKind::Binary:
       // A relation of a function that generates events is left where it
       // is: an intermediate's equation is not under the caller's noEvent().
       if (no_event_depth_ == 0 && is_relation(*x))
-        return false;
+        return K::None;
       break;
     case ExprKind::String:
-      return false;
+      return K::None;
     default:
       break;
     }
@@ -93,15 +99,24 @@ bool Flattener::intermediate_candidate(const Expr &value) const {
       if (a)
         work.push_back(a.get());
   }
-  return varying;
+  return varying ? K::Varying : parameters ? K::Parameter : K::None;
 }
 
 ExprPtr Flattener::intermediate(ExprPtr value, ClassNode *fn_class, const std::string &local, SourceRange where) {
-  if (!intermediates_on_ || decided_paths_ > 0 || !value || !too_large_value(*value, kIntermediateNodes) ||
-      !intermediate_candidate(*value))
+  // Inside a call of parameters only, a value that grows is a reason to
+  // evaluate the call instead (inline_or_evaluate), not to keep it.
+  if (!intermediates_on_ || decided_paths_ > 0 || value_nodes_cap_ <= kEvaluableValueNodes || !value ||
+      !too_large_value(*value, kIntermediateNodes))
+    return value;
+  const IntermediateKind kind = intermediate_kind(*value);
+  if (kind == IntermediateKind::None)
     return value;
   if (!inline_guards_.empty() && no_event_depth_ == 0)
-    return value; // the guards' relations would generate events (see intermediate_candidate)
+    return value; // the guards' relations would generate events (see intermediate_kind)
+  const bool parameter = kind == IntermediateKind::Parameter;
+  if (parameter && !std::all_of(inline_guards_.begin(), inline_guards_.end(),
+                                [this](const ExprPtr &g) { return is_constant(*g); }))
+    return value; // a parameter's value under a varying condition
   if (!inline_guards_.empty()) {
     ExprPtr guard = inline_guards_.front()->clone();
     for (std::size_t k = 1; k < inline_guards_.size(); ++k)
@@ -129,14 +144,20 @@ ExprPtr Flattener::intermediate(ExprPtr value, ClassNode *fn_class, const std::s
   v.name = name;
   v.description = fmt::format("intermediate value '{}' of function {}", local, fn);
   v.range = where;
+  if (parameter) { // computed from the other parameters, as a binding
+    v.variability = ast::Variability::Parameter;
+    v.binding = std::move(value);
+  }
   const std::int32_t id = model_->add(std::move(v));
   intermediate_by_text_.emplace(std::move(text), id);
-  ast::Equation eq;
-  eq.kind = ast::EquationKind::Simple;
-  eq.range = where;
-  eq.lhs = var_ref(*model_, id, where);
-  eq.rhs = std::move(value);
-  intermediate_equations_.push_back(std::move(eq));
+  if (!parameter) {
+    ast::Equation eq;
+    eq.kind = ast::EquationKind::Simple;
+    eq.range = where;
+    eq.lhs = var_ref(*model_, id, where);
+    eq.rhs = std::move(value);
+    intermediate_equations_.push_back(std::move(eq));
+  }
   return var_ref(*model_, id, where);
 }
 

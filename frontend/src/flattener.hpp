@@ -650,14 +650,17 @@ public:
   /// The most nodes a value an inlined function computes keeps as an
   /// expression where it may become a variable (intermediate()).
   static constexpr std::size_t kIntermediateNodes = 200;
-  /// True if `value` is a number that varies in time and is a function of
-  /// present values only (no der, pre, ...): it can be a continuous variable.
-  bool intermediate_candidate(const ast::Expr &value) const;
+  /// What `value`, a number that is a function of present values only (no
+  /// der, pre, ...), can be: a continuous variable (it varies in time), a
+  /// parameter (of parameters only); None for anything else.
+  enum class IntermediateKind { None, Varying, Parameter };
+  IntermediateKind intermediate_kind(const ast::Expr &value) const;
   /// While a continuous equation is flattened (intermediates_on_): `value`,
   /// computed by inlined function `fn` for its local `local`, as a new
-  /// variable defined by it if it has more than kIntermediateNodes nodes and
-  /// is a candidate; defined under inline_guards_ (else 0); one variable per
-  /// distinct value. Otherwise `value` itself.
+  /// variable defined by it (an equation, or a parameter's binding) if it
+  /// has more than kIntermediateNodes nodes and is of a kind; defined under
+  /// inline_guards_ (else 0); one variable per distinct value. Otherwise
+  /// `value` itself.
   ast::ExprPtr intermediate(ast::ExprPtr value, ClassNode *fn, const std::string &local, SourceRange where);
   /// Moves the intermediates' equations into the model.
   void flush_intermediates();

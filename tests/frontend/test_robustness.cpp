@@ -280,6 +280,30 @@ TEST_CASE("intermediates: only where a continuous equation calls the function, o
         end if;
       end for;
     end grow;
+    function scaled "grow's rounds on a parameter, times a varying x"
+      input Real x;
+      input Real p;
+      output Real y;
+    protected
+      Real s = p;
+    algorithm
+      for i in 1:5 loop
+        if s > 1 then
+          s := s*s - s/(s + 1);
+        else
+          s := s + 0.5*s*s;
+        end if;
+      end for;
+      y := s*x;
+    end scaled;
+    model OfParameters
+      parameter Real p = 0.3;
+      Real x(start = 0.1, fixed = true);
+      Real y;
+    equation
+      der(x) = -x;
+      y = scaled(x, p);
+    end OfParameters;
     model Once
       Real x(start = 0.1, fixed = true);
       Real y;
@@ -334,6 +358,18 @@ TEST_CASE("intermediates: only where a continuous equation calls the function, o
   INFO(again.diagnostics);
   REQUIRE(again.ok());
   CHECK(intermediates(again) == n);
+  // The rounds on a parameter inside a call with a varying argument: their
+  // values are parameters bound to them (a call of parameters only is
+  // evaluated instead).
+  Compiled of_parameters = compile({{"grow.mo", src}}, "OfParameters");
+  INFO(of_parameters.diagnostics);
+  REQUIRE(of_parameters.ok());
+  const auto &vars = of_parameters.model->variables;
+  CHECK(std::count_if(vars.begin(), vars.end(), [](const auto &v) {
+          return v.name.rfind("_fn", 0) == 0 && v.variability == mo::frontend::ast::Variability::Parameter &&
+                 v.binding;
+        }) >= 5);
+  CHECK(of_parameters.model->print().size() < 30000);
   Compiled elsewhere = compile({{"grow.mo", src}}, "Elsewhere");
   INFO(elsewhere.diagnostics);
   REQUIRE(elsewhere.ok());
