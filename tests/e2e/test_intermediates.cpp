@@ -1,14 +1,15 @@
 // Functions that branch on their own intermediate values: inlined as trees
 // they grow by a factor per statement (5^14 terms for BranchyFunctions.stages);
 // their large values become variables of the model (flatten_intermediates.cpp).
-// tests/e2e/data/BranchyFunctions.mo against the same algorithms run here,
-// and sensitivities through them against finite differences.
+// tests/e2e/data/BranchyFunctions.mo and RegFun3Sweep.mo (the MSL's
+// Fluid.Utilities.regFun3) against the same algorithms run here, and
+// sensitivities through them against finite differences.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
-#include <tuple>
 #include <string>
+#include <tuple>
 
 #include "e2e/support.hpp"
 
