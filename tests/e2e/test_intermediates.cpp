@@ -10,6 +10,7 @@
 #include <set>
 #include <string>
 #include <tuple>
+#include <vector>
 
 #include "e2e/support.hpp"
 
@@ -97,6 +98,27 @@ RegFun3 reg_fun3(double x, double x0, double x1, double y0, double y1, double y0
 
 runtime::OutputGrid grid() { return runtime::OutputGrid::uniform(0, 4, 40); }
 
+/// Simulates `augmented` (sensitivities to `names`) and CHECKs d(state)/d(name)
+/// against Richardson finite differences of `plain`, to 1e-5 of its largest value.
+void check_sensitivities(runtime::Model& plain, runtime::Model& augmented, const std::vector<std::string>& names,
+                         const std::string& state, const runtime::OutputGrid& g) {
+  runtime::SimulationOptions o = tight();
+  o.sensitivities.method = runtime::SensitivityMethod::model_states;
+  const auto s = runtime::simulate(augmented, runtime::Inputs{}, augmented.info().default_parameters(), g, o);
+  INFO(s.message);
+  REQUIRE(s.ok());
+  const auto p = plain.info().default_parameters();
+  for (const auto& name : names) {
+    const std::size_t k = parameter(plain.info(), name);
+    const auto fds = richardson_difference(plain, p, k, 1e-4, g, state);
+    const auto mine = column(s.trajectory, "d(" + state + ")/d(" + name + ")");
+    const auto [worst, scale] = deviation_after_t0(mine, fds);
+    INFO("d(" << state << ")/d(" << name << "): max error " << worst << " of " << scale);
+    CHECK(scale > 1e-2);
+    CHECK(worst < 1e-5 * scale);
+  }
+}
+
 }  // namespace
 
 TEST_CASE("a function that branches on its own values 14 times is inlined through intermediates",
@@ -116,19 +138,7 @@ TEST_CASE("sensitivities through intermediates equal finite differences", "[e2e]
   const tools::ModelSource source{kData + "BranchyFunctions.mo", "BranchyFunctions.Stages", {}, true};
   auto plain = compiled_model("e2e_branchy_stages_plain", {source, {}});
   auto augmented = compiled_model("e2e_branchy_stages_sens", {source, {"a"}});
-  runtime::SimulationOptions o = tight();
-  o.sensitivities.method = runtime::SensitivityMethod::model_states;
-  const auto s = runtime::simulate(*augmented, runtime::Inputs{}, augmented->info().default_parameters(), grid(), o);
-  INFO(s.message);
-  REQUIRE(s.ok());
-  const auto p = plain->info().default_parameters();
-  const std::size_t k = parameter(plain->info(), "a");
-  const auto fds = richardson_difference(*plain, p, k, 1e-4, grid(), "z");
-  const auto mine = column(s.trajectory, "d(z)/d(a)");
-  const auto [worst, scale] = deviation_after_t0(mine, fds);
-  INFO("d(z)/d(a): max error " << worst << " of " << scale);
-  CHECK(scale > 1e-2);
-  CHECK(worst < 1e-5 * scale);
+  check_sensitivities(*plain, *augmented, {"a"}, "z", grid());
 }
 
 TEST_CASE("an intermediate computed in a branch is not computed outside it", "[e2e][intermediates]") {
@@ -158,19 +168,7 @@ TEST_CASE("sensitivities through an intermediate computed in a branch equal fini
   const tools::ModelSource source{kData + "BranchyFunctions.mo", "BranchyFunctions.Secant", {}, true};
   auto plain = compiled_model("e2e_branchy_secant_plain", {source, {}});
   auto augmented = compiled_model("e2e_branchy_secant_sens", {source, {"k"}});
-  runtime::SimulationOptions o = tight();
-  o.sensitivities.method = runtime::SensitivityMethod::model_states;
-  const auto s = runtime::simulate(*augmented, runtime::Inputs{}, augmented->info().default_parameters(), grid(), o);
-  INFO(s.message);
-  REQUIRE(s.ok());
-  const auto p = plain->info().default_parameters();
-  const std::size_t k = parameter(plain->info(), "k");
-  const auto fds = richardson_difference(*plain, p, k, 1e-4, grid(), "w");
-  const auto mine = column(s.trajectory, "d(w)/d(k)");
-  const auto [worst, scale] = deviation_after_t0(mine, fds);
-  INFO("d(w)/d(k): max error " << worst << " of " << scale);
-  CHECK(scale > 1e-2);
-  CHECK(worst < 1e-5 * scale);
+  check_sensitivities(*plain, *augmented, {"k"}, "w", grid());
 }
 
 TEST_CASE("the MSL's Fluid.Utilities.regFun3 inlined through intermediates equals its algorithm run here",
@@ -216,20 +214,5 @@ TEST_CASE("sensitivities through regFun3's parameter intermediates equal finite 
   }
   auto augmented = msl_compiled_model("e2e_regfun3_sens", {source, {"d0", "y1"}});
   REQUIRE(augmented);
-  const auto g = runtime::OutputGrid::uniform(0, 1, 20);
-  runtime::SimulationOptions o = tight();
-  o.sensitivities.method = runtime::SensitivityMethod::model_states;
-  const auto s = runtime::simulate(*augmented, runtime::Inputs{}, augmented->info().default_parameters(), g, o);
-  INFO(s.message);
-  REQUIRE(s.ok());
-  const auto p = plain->info().default_parameters();
-  for (const char* name : {"d0", "y1"}) {
-    const std::size_t k = parameter(plain->info(), name);
-    const auto fds = richardson_difference(*plain, p, k, 1e-4, g, "z");
-    const auto mine = column(s.trajectory, std::string("d(z)/d(") + name + ")");
-    const auto [worst, scale] = deviation_after_t0(mine, fds);
-    INFO("d(z)/d(" << name << "): max error " << worst << " of " << scale);
-    CHECK(scale > 1e-2);
-    CHECK(worst < 1e-5 * scale);
-  }
+  check_sensitivities(*plain, *augmented, {"d0", "y1"}, "z", runtime::OutputGrid::uniform(0, 1, 20));
 }
