@@ -193,14 +193,13 @@ CompilerOptions runtime_compiler_options() {
   std::error_code ec;
   const fs::path exe = fs::read_symlink("/proc/self/exe", ec);
   const fs::path prefix = exe.parent_path().parent_path();
-  fs::path include = MO_RUNTIME_INCLUDE_DIR, lib = MO_RUNTIME_LIBRARY_DIR;
-  if (!ec && fs::exists(prefix / "include/mo/runtime/model.hpp")) {
-    include = prefix / "include";
-    for (const char* d : {"lib", "lib64", "lib/x86_64-linux-gnu"})
-      if (fs::exists(prefix / d / "libmo_runtime.so")) lib = prefix / d;
-  }
+  fs::path include = MO_RUNTIME_INCLUDE_DIR;
+  if (!ec && fs::exists(prefix / "include/mo/runtime/model.hpp")) include = prefix / "include";
   o.include_dirs = {include.string(), MO_EIGEN_INCLUDE_DIR};
-  o.link_flags = {"-L" + lib.string(), "-lmo_runtime", "-Wl,-rpath," + lib.string()};
+  // No -lmo_runtime: the model's runtime symbols resolve at dlopen() against
+  // the runtime the loading process already holds (runtime/README.md), so the
+  // key does not depend on where that library was built and two builds of one
+  // tree (release and sanitized) share compiled models.
   return o;
 }
 

@@ -16,10 +16,10 @@
 
 namespace mo::codegen::test {
 
-/// Compile options for tests: this build's runtime, a cache in the build tree.
+/// Compile options for tests: this build's runtime headers, the tests' cache (MO_TEST_CACHE_DIR).
 inline CompilerOptions test_compiler_options() {
   CompilerOptions o = runtime_compiler_options();
-  o.cache_dir = std::string(MO_BINARY_DIR) + "/codegen-test-cache";
+  o.cache_dir = std::string(MO_TEST_CACHE_DIR) + "/codegen-test-cache";
   o.jobs = 2;
   return o;
 }

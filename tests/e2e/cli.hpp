@@ -40,7 +40,7 @@ inline fs::path scratch(const std::string& name) {
 /// build tree so that tests never write to $HOME.
 inline Run morun(const std::string& args, const fs::path& dir) {
   const fs::path err = dir / "stderr.txt";
-  const std::string cmd = "XDG_CACHE_HOME=" + quoted(std::string(MO_BINARY_DIR) + "/morun-test-cache") + " " +
+  const std::string cmd = "XDG_CACHE_HOME=" + quoted(std::string(MO_TEST_CACHE_DIR) + "/morun-test-cache") + " " +
                           quoted(kMorun) + " " + args + " >/dev/null 2>" + quoted(err.string());
   const int raw = std::system(cmd.c_str());
   Run r;

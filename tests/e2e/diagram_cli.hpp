@@ -20,7 +20,7 @@ inline const std::string kMocompile = std::string(MO_BINARY_DIR) + "/tools/mocom
 /// each quoted) in the environment; stdout to DIR/stdout.txt, stderr captured.
 inline Run run_tool(const std::string& tool, const std::vector<std::string>& args, const fs::path& dir,
                     const std::vector<std::string>& env = {}) {
-  std::string cmd = "cd " + quoted(dir.string()) + " && env XDG_CACHE_HOME=" + quoted(std::string(MO_BINARY_DIR) + "/morun-test-cache");
+  std::string cmd = "cd " + quoted(dir.string()) + " && env XDG_CACHE_HOME=" + quoted(std::string(MO_TEST_CACHE_DIR) + "/morun-test-cache");
   for (const auto& e : env) cmd += " " + quoted(e);
   cmd += " " + quoted(tool);
   for (const auto& a : args) cmd += " " + quoted(a);

@@ -87,7 +87,7 @@ namespace {
 /// plugins it unloads at exit (LeakSanitizer cannot even name them), so leak
 /// checks are off for the ranks; every other test checks morun's own leaks.
 std::string mpirun_prefix() {
-  return "XDG_CACHE_HOME=" + quoted(std::string(MO_BINARY_DIR) + "/morun-test-cache") +
+  return "XDG_CACHE_HOME=" + quoted(std::string(MO_TEST_CACHE_DIR) + "/morun-test-cache") +
          " ASAN_OPTIONS=\"${ASAN_OPTIONS:+$ASAN_OPTIONS:}detect_leaks=0\""
          " mpirun --allow-run-as-root --oversubscribe -n 2 ";
 }

@@ -29,7 +29,7 @@ const std::string kMoreport = std::string(MO_BINARY_DIR) + "/tools/moreport";
 /// morun with environment assignments `env` in front (e.g. "MO_PROGRESS_SECONDS=0.05").
 Run morun_env(const std::string& env, const std::string& args, const fs::path& dir) {
   const fs::path err = dir / "stderr.txt";
-  const std::string cmd = env + " XDG_CACHE_HOME=" + quoted(std::string(MO_BINARY_DIR) + "/morun-test-cache") +
+  const std::string cmd = env + " XDG_CACHE_HOME=" + quoted(std::string(MO_TEST_CACHE_DIR) + "/morun-test-cache") +
                           " " + quoted(kMorun) + " " + args + " >/dev/null 2>" + quoted(err.string());
   const int raw = std::system(cmd.c_str());
   return {WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, slurp(err)};

@@ -38,7 +38,7 @@ TEST_CASE("every Xcos corpus diagram matches Scilab", "[xcos][corpus]") {
     WARN("SKIPPED: no xcos-corpus beside the checkout (set MO_SHARED_DIR)");
     return;
   }
-  ::setenv("XDG_CACHE_HOME", MO_BINARY_DIR "/morun-test-cache", 1);  // never $HOME
+  ::setenv("XDG_CACHE_HOME", MO_TEST_CACHE_DIR "/morun-test-cache", 1);  // never $HOME
   const Libraries libs{*corpus + "/../third_party/coselica/Coselica.mo", MO_SCILAB_MACROS};
   // Known failures, each explained in docs/xcos-dialect.md ("Why the others
   // fail"). A listed diagram that starts passing fails this test too, so the
@@ -70,7 +70,7 @@ TEST_CASE("ControlledTemperature closed through its relay matches Scilab", "[xco
     WARN("SKIPPED: no xcos-corpus beside the checkout (set MO_SHARED_DIR)");
     return;
   }
-  ::setenv("XDG_CACHE_HOME", MO_BINARY_DIR "/morun-test-cache", 1);
+  ::setenv("XDG_CACHE_HOME", MO_TEST_CACHE_DIR "/morun-test-cache", 1);
   const StepResult r = check_closed_loop(*corpus, "ControlledTemperature",
                                          MO_SOURCE_DIR "/tests/e2e/data/xcos_ControlledTemperature_loop.mo", "plant");
   INFO(r.detail);

@@ -64,7 +64,7 @@ bool translate(const fs::path& corpus, const std::string& name, const std::strin
 /// morun on the translation in `fake`, to `stop`, results in dir/out_<tag>.
 Run run(const fs::path& dir, const fs::path& fake, double stop, const std::string& tag, bool init_fixed) {
   const fs::path err = dir / ("stderr_" + tag + ".txt");
-  const std::string cmd = "env XDG_CACHE_HOME=" + quoted(std::string(MO_BINARY_DIR) + "/morun-test-cache") +
+  const std::string cmd = "env XDG_CACHE_HOME=" + quoted(std::string(MO_TEST_CACHE_DIR) + "/morun-test-cache") +
                           " MO_SCILAB=" + quoted(std::string(MO_TEST_DATA_DIR) + "/xcos/translating-scilab.sh") +
                           " DISPLAY=:0 MO_FAKE_TRANSLATION=" + quoted(fake.string()) + " " + quoted(kMorun) + " " +
                           quoted(std::string(MO_TEST_DATA_DIR) + "/xcos/SeriesRLC.zcos") +

@@ -24,7 +24,7 @@ struct CompilerOptions {
   std::string compiler = "c++";  ///< looked up on PATH
   std::vector<std::string> flags{"-std=c++20", "-O1", "-fPIC", "-fvisibility=hidden"};
   std::vector<std::string> include_dirs;  ///< at least the runtime's include directory
-  std::vector<std::string> link_flags;    ///< e.g. -L<dir> -lmo_runtime -Wl,-rpath,<dir>
+  std::vector<std::string> link_flags;    ///< e.g. -L<dir> -lfoo; none for the runtime (see below)
   std::string cache_dir;  ///< empty: default_cache_dir()
   unsigned jobs = 1;      ///< translation units compiled in parallel
 };
@@ -32,8 +32,10 @@ struct CompilerOptions {
 /// $XDG_CACHE_HOME/mocompile, else $HOME/.cache/mocompile, else /tmp/mocompile-cache.
 std::string default_cache_dir();
 
-/// Options that compile against this build's runtime (paths fixed when
-/// mocompile was configured, or next to the installed executable).
+/// Options that compile against this build's runtime headers (paths fixed
+/// when mocompile was configured, or next to the installed executable). The
+/// shared object is not linked against libmo_runtime: its runtime symbols
+/// resolve when it is loaded, against the runtime of the loading process.
 CompilerOptions runtime_compiler_options();
 
 /// A compiled model on disk.
