@@ -1,7 +1,9 @@
 // OdeModel helpers and its flat-Modelica text form.
 #include "mo/symbolic/ode.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <unordered_set>
 #include <fmt/format.h>
 
 #include "mo/frontend/ast.hpp"
@@ -52,17 +54,108 @@ std::string attributes(const ExprArena& arena, const VariableInfo& info, Expr st
   return "(" + fmt::format("{}", fmt::join(parts, ", ")) + ")";
 }
 
-void print_step(const ExprArena& arena, const Step& step, std::string& out) {
+/// Subexpressions the printed equations share are written once each, as an
+/// equation of a variable of their own, when writing them out at every use
+/// would repeat at least this many nodes: the text of a lowered model that
+/// shares values (a function's intermediates, a block's Jacobian) stays in
+/// proportion to its graph instead of growing with the number of paths.
+constexpr std::size_t kSharedTerms = 100;
+
+/// Text of the model's expressions with its shared subexpressions' names.
+struct Writer {
+  const ExprArena& arena;
+  ExprNames names;
+  std::vector<Expr> shared;   ///< named nodes of the equations, operands before users
+  std::vector<Expr> initial;  ///< named nodes only the initial system's steps use
+
+  /// `e`'s text: its name if it has one.
+  std::string text(Expr e) const {
+    if (const auto it = names.find(e); it != names.end()) return it->second;
+    return definition(e);
+  }
+  /// `e` written out, its shared subexpressions (not `e`) by their names.
+  std::string definition(Expr e) const {
+    std::string out;
+    append_modelica(arena, e, out, names);
+    return out;
+  }
+};
+
+/// True if a node of kind `k` is a Boolean (printed as a relation), given
+/// which of its first three operands are.
+bool boolean_kind(ExprKind k, const bool (&operand)[3]) {
+  switch (k) {
+  case ExprKind::Lt:
+  case ExprKind::Le:
+  case ExprKind::Gt:
+  case ExprKind::Ge:
+  case ExprKind::Eq:
+  case ExprKind::Ne:
+  case ExprKind::And:
+  case ExprKind::Or:
+  case ExprKind::Not: return true;
+  case ExprKind::Select: return operand[1];
+  case ExprKind::NoEvent: return operand[0];
+  default: return false;
+  }
+}
+
+/// Names `$cseK` for the Real subexpressions of `equations` and `initial`
+/// used more than once whose text, with the names chosen below them, has
+/// kSharedTerms nodes or more. Names already taken by `taken` are skipped.
+Writer shared_terms(const ExprArena& a, std::vector<Expr> equations, std::span<const Expr> initial,
+                    const std::unordered_set<std::string>& taken) {
+  Writer w{a, {}, {}, {}};
+  const std::vector<Expr> in_equations = topological_order(a, equations, LeafOperands::Visit);
+  std::vector<Expr> roots = std::move(equations);
+  roots.insert(roots.end(), initial.begin(), initial.end());
+  const std::vector<Expr> order = topological_order(a, roots, LeafOperands::Visit);
+  std::unordered_map<Expr, std::size_t, ExprHash> index;
+  for (std::size_t i = 0; i < order.size(); ++i) index.emplace(order[i], i);
+  std::vector<std::size_t> uses(order.size(), 0), size(order.size(), 1);
+  std::vector<bool> boolean(order.size(), false);
+  for (Expr r : roots) ++uses[index.at(r)];
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const std::size_t n = arity(a.kind(order[i]));
+    for (std::size_t k = 0; k < n; ++k) ++uses[index.at(a.operand(order[i], k))];
+  }
+  std::size_t next = 1;
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    const Expr e = order[i];
+    const ExprKind k = a.kind(e);
+    const std::size_t n = arity(k);
+    bool operand_boolean[3] = {false, false, false};
+    for (std::size_t j = 0; j < n; ++j) {
+      const std::size_t o = index.at(a.operand(e, j));
+      size[i] = std::min<std::size_t>(size[i] + (w.names.contains(order[o]) ? 1 : size[o]), 1u << 30);
+      if (j < 3) operand_boolean[j] = boolean[o];
+    }
+    boolean[i] = boolean_kind(k, operand_boolean);
+    if (uses[i] < 2 || size[i] < kSharedTerms || boolean[i] || a.is_leaf(e) ||
+        k == ExprKind::External)
+      continue;
+    std::string name;
+    do name = "$cse" + std::to_string(next++);
+    while (taken.contains(name));
+    w.names.emplace(e, modelica_name(name));
+    // The initial system's own symbols ($init) are not variables of the model.
+    const bool equation = std::binary_search(in_equations.begin(), in_equations.end(), e);
+    (equation ? w.shared : w.initial).push_back(e);
+  }
+  return w;
+}
+
+void print_step(const Writer& w, const Step& step, std::string& out) {
   if (const auto* a = std::get_if<Assignment>(&step)) {
-    out += "  " + to_modelica(arena, a->target) + " = " + to_modelica(arena, a->value) + ";\n";
+    out += "  " + w.text(a->target) + " = " + w.text(a->value) + ";\n";
     return;
   }
   const auto& b = std::get<EquationBlock>(step);
   out += fmt::format("  // {} block of {} equation{} for", b.linear ? "linear" : "nonlinear",
                      b.unknowns.size(), b.unknowns.size() == 1 ? "" : "s");
-  for (Expr z : b.unknowns) out += " " + to_modelica(arena, z);
+  for (Expr z : b.unknowns) out += " " + w.text(z);
   out += "\n";
-  for (Expr r : b.residuals) out += "  0 = " + to_modelica(arena, r) + ";\n";
+  for (Expr r : b.residuals) out += "  0 = " + w.text(r) + ";\n";
 }
 
 /// True if output `y` is just the unknown of the same name (printed as an
@@ -103,18 +196,18 @@ void print_declarations(const OdeModel& m, std::string& out) {
       out += fmt::format("  output Real {}{};\n", modelica_name(y.info.name), comment(y.info));
 }
 
-void print_when(const ExprArena& a, const OdeModel& m, const WhenClause& w, std::string& out) {
+void print_when(const Writer& t, const OdeModel& m, const WhenClause& w, std::string& out) {
   if (w.every_event) {  // printed back as the equation it came from
     for (const auto& s : w.assignments)
-      out += "  " + to_modelica(a, s.target) + " = " + to_modelica(a, s.value) + ";\n";
+      out += "  " + t.text(s.target) + " = " + t.text(s.value) + ";\n";
     return;
   }
-  out += "  when " + to_modelica(a, w.condition) + " then\n";
+  out += "  when " + t.text(w.condition) + " then\n";
   for (const auto& s : w.assignments)
-    out += "    " + to_modelica(a, s.target) + " = " + to_modelica(a, s.value) + ";\n";
+    out += "    " + t.text(s.target) + " = " + t.text(s.value) + ";\n";
   for (const auto& r : w.reinits)
-    out += "    reinit(" + modelica_name(m.states[r.state].info.name) + ", " +
-           to_modelica(a, r.value) + ");\n";
+    out += "    reinit(" + modelica_name(m.states[r.state].info.name) + ", " + t.text(r.value) +
+           ");\n";
   if (w.terminates) out += "    terminate(\"" + frontend::ast::escape_string(w.terminate_message) + "\");\n";
   out += "  end when;\n";
 }
@@ -182,14 +275,64 @@ std::size_t OdeModel::num_base_states() const {
   return n;
 }
 
+namespace {
+
+/// The expressions `steps` print: targets, values, unknowns, residuals.
+std::vector<Expr> printed_expressions(const std::vector<Step>& steps) {
+  std::vector<Expr> roots;
+  for (const Step& s : steps) {
+    if (const auto* as = std::get_if<Assignment>(&s)) {
+      roots.insert(roots.end(), {as->target, as->value});
+      continue;
+    }
+    const auto& b = std::get<EquationBlock>(s);
+    roots.insert(roots.end(), b.unknowns.begin(), b.unknowns.end());
+    roots.insert(roots.end(), b.residuals.begin(), b.residuals.end());
+  }
+  return roots;
+}
+
+/// What print_ode() writes as expressions of the model, bar start values:
+/// steps, outputs, when-clauses, eliminated variables.
+std::vector<Expr> printed_expressions(const OdeModel& m) {
+  std::vector<Expr> roots = printed_expressions(m.steps);
+  for (const auto& y : m.outputs) roots.push_back(y.value);
+  for (const WhenClause& w : m.whens) {
+    roots.push_back(w.condition);
+    for (const auto& s : w.assignments) roots.insert(roots.end(), {s.target, s.value});
+    for (const auto& r : w.reinits) roots.push_back(r.value);
+  }
+  for (const auto& e : m.eliminated) roots.push_back(e.value);
+  return roots;
+}
+
+/// Every name the printed model declares.
+std::unordered_set<std::string> declared_names(const OdeModel& m) {
+  std::unordered_set<std::string> out;
+  for (const auto& p : m.parameters) out.insert(p.info.name);
+  for (const auto& u : m.inputs) out.insert(u.info.name);
+  for (const auto& x : m.states) out.insert(x.info.name);
+  for (const auto& z : m.algebraics) out.insert(z.info.name);
+  for (const auto& d : m.discrete) out.insert(d.info.name);
+  for (const auto& y : m.outputs) out.insert(y.info.name);
+  return out;
+}
+
+}  // namespace
+
 std::string print_ode(const OdeModel& m) {
   const ExprArena& a = m.arena;
+  const Writer w = shared_terms(a, printed_expressions(m), printed_expressions(m.initial_steps),
+                                declared_names(m));
   std::string out = "model " + modelica_name(m.name) + "\n";
   print_declarations(m, out);
+  for (Expr e : w.shared)
+    out += "  Real " + w.names.at(e) + " \"a subexpression the equations share\";\n";
   if (!m.initial_steps.empty()) {
     // Comments: the $init symbols are not variables of the printed model.
     std::string init;
-    for (const Step& s : m.initial_steps) print_step(a, s, init);
+    for (Expr e : w.initial) init += "  " + w.names.at(e) + " = " + w.definition(e) + ";\n";
+    for (const Step& s : m.initial_steps) print_step(w, s, init);
     out += "  // initial system, solved at t0 before the start values that use its $init(...) unknowns:\n";
     for (std::size_t i = 0; i < init.size();) {
       const std::size_t end = init.find('\n', i);
@@ -198,15 +341,15 @@ std::string print_ode(const OdeModel& m) {
     }
   }
   out += "equation\n";
-  for (const Step& s : m.steps) print_step(a, s, out);
+  for (Expr e : w.shared) out += "  " + w.names.at(e) + " = " + w.definition(e) + ";\n";
+  for (const Step& s : m.steps) print_step(w, s, out);
   for (const auto& y : m.outputs)
-    if (!is_self_output(a, y))
-      out += "  " + modelica_name(y.info.name) + " = " + to_modelica(a, y.value) + ";\n";
-  for (const auto& w : m.whens) print_when(a, m, w, out);
+    if (!is_self_output(a, y)) out += "  " + modelica_name(y.info.name) + " = " + w.text(y.value) + ";\n";
+  for (const auto& c : m.whens) print_when(w, m, c, out);
   if (!m.eliminated.empty()) {
     out += "  // eliminated variables, recoverable for results:\n";
     for (const auto& e : m.eliminated)
-      out += "  //   " + modelica_name(e.info.name) + " = " + to_modelica(a, e.value) + "\n";
+      out += "  //   " + modelica_name(e.info.name) + " = " + w.text(e.value) + "\n";
   }
   out += "end " + modelica_name(m.name) + ";\n";
   return out;

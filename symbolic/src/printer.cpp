@@ -138,9 +138,11 @@ struct Item {
 
 class ModelicaPrinter {
 public:
-  ModelicaPrinter(const ExprArena& arena, std::string& out) : arena_(arena), out_(out) {}
+  ModelicaPrinter(const ExprArena& arena, std::string& out, const ExprNames* names = nullptr)
+      : arena_(arena), out_(out), names_(names) {}
 
   void print(Expr root) {
+    root_ = root;
     stack_.push_back(Item{{}, root, kIf});
     while (!stack_.empty()) {
       const Item item = stack_.back();
@@ -198,6 +200,12 @@ private:
   }
 
   void expand(Expr e, int min_level) {
+    if (names_ && e != root_) {
+      if (const auto it = names_->find(e); it != names_->end()) {
+        out_ += it->second;
+        return;
+      }
+    }
     if (level(arena_, e) < min_level) {
       text("(");
       operand(e, kIf);
@@ -291,6 +299,8 @@ private:
 
   const ExprArena& arena_;
   std::string& out_;
+  const ExprNames* names_;  ///< nodes printed as a name, or null
+  Expr root_;
   std::vector<Item> stack_;
   std::vector<Item> pending_;
   std::deque<std::string> owned_;  ///< texts made while printing (stable addresses)
@@ -300,6 +310,10 @@ private:
 
 void append_modelica(const ExprArena& arena, Expr e, std::string& out) {
   ModelicaPrinter(arena, out).print(e);
+}
+
+void append_modelica(const ExprArena& arena, Expr e, std::string& out, const ExprNames& names) {
+  ModelicaPrinter(arena, out, &names).print(e);
 }
 
 std::string to_modelica(const ExprArena& arena, Expr e) {

@@ -6,6 +6,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <unordered_map>
 
 #include "mo/symbolic/expr_arena.hpp"
 
@@ -20,6 +21,14 @@ std::string to_modelica(const ExprArena& arena, Expr e);
 
 /// As to_modelica(), appending to `out`.
 void append_modelica(const ExprArena& arena, Expr e, std::string& out);
+
+/// Names that stand for subexpressions in printed text (print_ode() names
+/// the large shared ones).
+using ExprNames = std::unordered_map<Expr, std::string, ExprHash>;
+
+/// As append_modelica(), writing each node of `names` other than `e` itself
+/// as its name: `e`'s definition when `e` is in `names`.
+void append_modelica(const ExprArena& arena, Expr e, std::string& out, const ExprNames& names);
 
 /// `name` as Modelica text: unchanged if it is a component reference such as
 /// `a.b[2].c` (no keywords), otherwise a quoted identifier such as 'my var'.
