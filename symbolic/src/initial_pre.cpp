@@ -123,9 +123,21 @@ private:
   }
 
   void fail(const PreEquation& eq) {
+    std::string open;  // the leaves with no value yet, named as the flat model does
+    for (const Expr side : {eq.lhs, eq.rhs})
+      for (const Expr leaf : leaves(dae_.arena, std::span(&side, 1))) {
+        if (known_.contains(leaf)) continue;
+        const ExprKind k = dae_.arena.kind(leaf);
+        const Expr sym = k == ExprKind::Symbol ? leaf : dae_.arena.operand(leaf, 0);
+        const std::string name = fmt::format("{}{}{}", k == ExprKind::Pre ? "pre(" : k == ExprKind::Der ? "der(" : "",
+                                             dae_.arena.symbol_info(sym).name,
+                                             k == ExprKind::Symbol ? "" : ")");
+        if (open.find("'" + name + "'") == std::string::npos) open += (open.empty() ? "'" : ", '") + name + "'";
+      }
     diags_.report(DiagId::UnsupportedInLowering, eq.range,
-                  "pre() values in an initial equation must follow from parameters, time and "
-                  "other pre() values");
+                  "pre() values in an initial equation must follow from parameters, time, "
+                  "variables that equations give from those, and other pre() values" +
+                      (open.empty() ? std::string() : " (no value for " + open + ")"));
     ok_ = false;
   }
 
@@ -161,7 +173,59 @@ private:
 
 bool solve_initial_pre(Dae& dae, const std::vector<PreEquation>& eqs, const LeafValues& at_t0,
                        const std::vector<bool>& boolean, frontend::DiagnosticEngine& diags) {
-  return PreSolver(dae, eqs, at_t0, boolean, diags).run();
+  LeafValues known = at_t0;
+  add_values_that_follow(dae, known);
+  return PreSolver(dae, eqs, known, boolean, diags).run();
+}
+
+void add_values_that_follow(const Dae& dae, LeafValues& known) {
+  const ExprArena& a = dae.arena;
+  // Per equation `v = e` (each side that is a continuous symbol): the symbols
+  // of e still unknown; per symbol, the equations waiting for it.
+  struct Explicit {
+    Expr target, value;
+    std::size_t open = 0;
+  };
+  std::vector<Explicit> eqs;
+  std::unordered_map<Expr, std::vector<std::size_t>, ExprHash> waiting;
+  auto continuous = [&](Expr e) {
+    if (a.kind(e) != ExprKind::Symbol) return false;
+    const SymbolRole r = a.symbol_info(e).role;
+    return r == SymbolRole::Algebraic || r == SymbolRole::State;
+  };
+  for (const DaeEq& eq : dae.eqs) {
+    if (eq.removed || a.kind(eq.residual) != ExprKind::Sub) continue;
+    for (const std::size_t side : {0u, 1u}) {
+      const Expr target = a.operand(eq.residual, side), value = a.operand(eq.residual, 1 - side);
+      if (!continuous(target) || known.contains(target)) continue;
+      Explicit x{target, value};
+      bool usable = true;
+      for (const Expr leaf : leaves(a, std::span(&value, 1))) {
+        if (known.contains(leaf)) continue;
+        if (!continuous(leaf) || leaf == target) {  // der(), pre(), inputs, discrete values
+          usable = false;
+          break;
+        }
+        waiting[leaf].push_back(eqs.size());
+        ++x.open;
+      }
+      if (usable) eqs.push_back(x);  // `a = b` of two symbols: either way
+    }
+  }
+  std::vector<std::size_t> ready;
+  for (std::size_t i = 0; i < eqs.size(); ++i)
+    if (eqs[i].open == 0) ready.push_back(i);
+  while (!ready.empty()) {
+    const Explicit& x = eqs[ready.back()];
+    ready.pop_back();
+    if (known.contains(x.target)) continue;
+    const double v = evaluate(a, std::span(&x.value, 1), known)[0];
+    if (!std::isfinite(v)) continue;
+    known[x.target] = v;
+    if (const auto it = waiting.find(x.target); it != waiting.end())
+      for (const std::size_t j : it->second)
+        if (--eqs[j].open == 0) ready.push_back(j);
+  }
 }
 
 }  // namespace mo::symbolic::detail

@@ -254,6 +254,36 @@ TEST_CASE("an initial equation on a variable that equals pre() values fixes thos
   CHECK(discrete_value(*model, "idle") == 1.0);
 }
 
+TEST_CASE("initial equation pre(b) = ... reads variables that equations give from parameters") {
+  auto model = compiled_model("e2e_initial_pre_from_variables",
+                              {{kData + "InitialPre.mo", "InitialPreFromVariables", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  const auto grid = runtime::OutputGrid::uniform(0, 0.2, 20);
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  const auto level = column(r.trajectory, "tank.level");
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const double t = grid.times[k];
+    const double expected = t <= 0.07 ? 0.32 - t : 0.25 - 0.1 * (t - 0.07);
+    INFO("t = " << t);
+    CHECK(level[k] == Approx(expected).margin(1e-7));
+  }
+}
+
+TEST_CASE("initial equation pre(b) = ... on a value only the initial system gives is reported") {
+  frontend::SourceManager sources;
+  frontend::DiagnosticEngine diags(sources);
+  auto flat = tools::load_flat_model({kData + "InitialPre.mo", "InitialPreFromUnknown", {}, true}, sources, diags);
+  REQUIRE(flat);
+  CHECK_FALSE(tools::lower_model(*flat, diags));
+  std::ostringstream printed;
+  diags.print(printed);
+  INFO(printed.str());
+  CHECK(printed.str().find("error: pre() values in an initial equation must follow from parameters, time, "
+                           "variables that equations give from those, and other pre() values") != std::string::npos);
+}
+
 TEST_CASE("initial equations that contradict each other on pre() values are reported") {
   frontend::SourceManager sources;
   frontend::DiagnosticEngine diags(sources);

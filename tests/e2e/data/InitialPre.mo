@@ -75,3 +75,44 @@ equation
   a = pre(a);
   b = pre(b);
 end InitialPreContradiction;
+
+// pre(above) = level_start >= h2, where h2 is no parameter but a variable
+// that equations give from one (the MSL's AST_BatchPlant tank: a port height
+// bound to a parameter record through an input connector and a connect()):
+// the value at t0 follows, so pre(above) = (0.32 >= 0.3) = true. With the
+// hysteresis of 0.05 the tank then drains fast (slope -1) until the level
+// falls below 0.25 at t = 0.07, then slowly (-0.1); with pre(above) false it
+// would drain slowly from the start.
+model InitialPreFromVariables
+  model Tank
+    connector RealIn = input Real;
+    parameter Real h_port = 0.3;
+    parameter Real level_start = 0.32;
+    RealIn h1 = 2*h_half;
+    RealIn h2;
+    Real h_half;
+    Real level(start = level_start, fixed = true);
+    Boolean above;
+  initial equation
+    pre(above) = level_start >= h2;
+  equation
+    h_half = h_port/2;
+    connect(h1, h2);
+    above = level >= h2 + 0.05 or pre(above) and level >= h2 - 0.05;
+    der(level) = if above then -1 else -0.1;
+  end Tank;
+  Tank tank;
+end InitialPreFromVariables;
+
+// The same equation on a variable that only the initial system gives (the
+// level itself, whose start is not fixed): a diagnostic, not a guess.
+model InitialPreFromUnknown
+  Real level(start = 0.32);
+  Boolean above;
+initial equation
+  der(level) = -1;
+  pre(above) = level >= 0.3;
+equation
+  above = level >= 0.35 or pre(above) and level >= 0.25;
+  der(level) = if above then -1 else -0.1 * level;
+end InitialPreFromUnknown;
