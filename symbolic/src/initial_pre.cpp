@@ -2,6 +2,7 @@
 // see dae_build.hpp (solve_initial_pre).
 #include <algorithm>
 #include <cmath>
+#include <exception>
 #include <unordered_map>
 
 #include <fmt/format.h>
@@ -198,7 +199,7 @@ void add_values_that_follow(const Dae& dae, LeafValues& known) {
     for (const std::size_t side : {0u, 1u}) {
       const Expr target = a.operand(eq.residual, side), value = a.operand(eq.residual, 1 - side);
       if (!continuous(target) || known.contains(target)) continue;
-      Explicit x{target, value};
+      std::vector<Expr> open;
       bool usable = true;
       for (const Expr leaf : leaves(a, std::span(&value, 1))) {
         if (known.contains(leaf)) continue;
@@ -206,10 +207,11 @@ void add_values_that_follow(const Dae& dae, LeafValues& known) {
           usable = false;
           break;
         }
-        waiting[leaf].push_back(eqs.size());
-        ++x.open;
+        open.push_back(leaf);
       }
-      if (usable) eqs.push_back(x);  // `a = b` of two symbols: either way
+      if (!usable) continue;
+      for (const Expr leaf : open) waiting[leaf].push_back(eqs.size());
+      eqs.push_back({target, value, open.size()});  // `a = b` of two symbols: either way
     }
   }
   std::vector<std::size_t> ready;
@@ -219,7 +221,12 @@ void add_values_that_follow(const Dae& dae, LeafValues& known) {
     const Explicit& x = eqs[ready.back()];
     ready.pop_back();
     if (known.contains(x.target)) continue;
-    const double v = evaluate(a, std::span(&x.value, 1), known)[0];
+    double v = 0.0;
+    try {
+      v = evaluate(a, std::span(&x.value, 1), known)[0];
+    } catch (const std::exception&) {  // a value the evaluator cannot compute stays unknown
+      continue;
+    }
     if (!std::isfinite(v)) continue;
     known[x.target] = v;
     if (const auto it = waiting.find(x.target); it != waiting.end())

@@ -280,8 +280,9 @@ TEST_CASE("initial equation pre(b) = ... on a value only the initial system give
   std::ostringstream printed;
   diags.print(printed);
   INFO(printed.str());
-  CHECK(printed.str().find("error: pre() values in an initial equation must follow from parameters, time, "
-                           "variables that equations give from those, and other pre() values") != std::string::npos);
+  CHECK(printed.str().find("InitialPre.mo:116:3: error: pre() values in an initial equation must follow from "
+                           "parameters, time, variables that equations give from those, and other pre() values "
+                           "(no value for 'level')") != std::string::npos);
 }
 
 TEST_CASE("initial equations that contradict each other on pre() values are reported") {

@@ -91,11 +91,13 @@ model InitialPreFromVariables
     RealIn h1 = 2*h_half;
     RealIn h2;
     Real h_half;
+    Real rate "an equation that reads der(): gives nothing before the initial system";
     Real level(start = level_start, fixed = true);
     Boolean above;
   initial equation
     pre(above) = level_start >= h2;
   equation
+    rate = 2*h_half + der(level);
     h_half = h_port/2;
     connect(h1, h2);
     above = level >= h2 + 0.05 or pre(above) and level >= h2 - 0.05;
