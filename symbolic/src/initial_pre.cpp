@@ -124,15 +124,17 @@ private:
   }
 
   void fail(const PreEquation& eq) {
-    std::string open;  // the leaves with no value yet, named as the flat model does
+    std::string open;  // the values other than pre() ones it lacks, named as the flat model does
     for (const Expr side : {eq.lhs, eq.rhs})
       for (const Expr leaf : leaves(dae_.arena, std::span(&side, 1))) {
-        if (known_.contains(leaf)) continue;
         const ExprKind k = dae_.arena.kind(leaf);
+        if (known_.contains(leaf) || (k != ExprKind::Symbol && k != ExprKind::Der)) continue;
         const Expr sym = k == ExprKind::Symbol ? leaf : dae_.arena.operand(leaf, 0);
-        const std::string name = fmt::format("{}{}{}", k == ExprKind::Pre ? "pre(" : k == ExprKind::Der ? "der(" : "",
-                                             dae_.arena.symbol_info(sym).name,
-                                             k == ExprKind::Symbol ? "" : ")");
+        const int var = dae_.var_of(sym);  // symbols of variables have internal names
+        const std::string name = fmt::format(
+            "{}{}{}", k == ExprKind::Der ? "der(" : "",
+            var >= 0 ? dae_.vars[static_cast<std::size_t>(var)].info.name : dae_.arena.symbol_info(sym).name,
+            k == ExprKind::Der ? ")" : "");
         if (open.find("'" + name + "'") == std::string::npos) open += (open.empty() ? "'" : ", '") + name + "'";
       }
     diags_.report(DiagId::UnsupportedInLowering, eq.range,

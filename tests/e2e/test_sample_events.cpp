@@ -21,6 +21,18 @@ bool has_time(const std::vector<double>& times, double t) {
   return std::any_of(times.begin(), times.end(), [&](double e) { return std::fabs(e - t) <= 2.5e-16; });
 }
 
+/// The diagnostics of lowering class `cls` of InitialPre.mo, which must fail.
+std::string lowering_errors(const std::string& cls) {
+  frontend::SourceManager sources;
+  frontend::DiagnosticEngine diags(sources);
+  auto flat = tools::load_flat_model({kData + "InitialPre.mo", cls, {}, true}, sources, diags);
+  REQUIRE(flat);
+  CHECK_FALSE(tools::lower_model(*flat, diags));
+  std::ostringstream printed;
+  diags.print(printed);
+  return printed.str();
+}
+
 }  // namespace
 
 TEST_CASE("sample(): ticks at exactly start + k*interval, counters, sample-and-hold, edge") {
@@ -272,27 +284,15 @@ TEST_CASE("initial equation pre(b) = ... reads variables that equations give fro
 }
 
 TEST_CASE("initial equation pre(b) = ... on a value only the initial system gives is reported") {
-  frontend::SourceManager sources;
-  frontend::DiagnosticEngine diags(sources);
-  auto flat = tools::load_flat_model({kData + "InitialPre.mo", "InitialPreFromUnknown", {}, true}, sources, diags);
-  REQUIRE(flat);
-  CHECK_FALSE(tools::lower_model(*flat, diags));
-  std::ostringstream printed;
-  diags.print(printed);
-  INFO(printed.str());
-  CHECK(printed.str().find("InitialPre.mo:116:3: error: pre() values in an initial equation must follow from "
-                           "parameters, time, variables that equations give from those, and other pre() values "
-                           "(no value for 'level')") != std::string::npos);
+  const std::string printed = lowering_errors("InitialPreFromUnknown");
+  INFO(printed);
+  CHECK(printed.find("InitialPre.mo:116:3: error: pre() values in an initial equation must follow from "
+                     "parameters, time, variables that equations give from those, and other pre() values "
+                     "(no value for 'level')") != std::string::npos);
 }
 
 TEST_CASE("initial equations that contradict each other on pre() values are reported") {
-  frontend::SourceManager sources;
-  frontend::DiagnosticEngine diags(sources);
-  auto flat = tools::load_flat_model({kData + "InitialPre.mo", "InitialPreContradiction", {}, true}, sources, diags);
-  REQUIRE(flat);
-  CHECK_FALSE(tools::lower_model(*flat, diags));
-  std::ostringstream printed;
-  diags.print(printed);
-  CHECK(printed.str().find("InitialPre.mo:73:3: error: this initial equation contradicts the others on pre() "
-                           "values: its sides evaluate to 1 and 0") != std::string::npos);
+  CHECK(lowering_errors("InitialPreContradiction")
+            .find("InitialPre.mo:73:3: error: this initial equation contradicts the others on pre() "
+                  "values: its sides evaluate to 1 and 0") != std::string::npos);
 }
