@@ -35,18 +35,10 @@ struct PreEquation {
 /// reads keep their start values. Sets dae.discrete[i].start to each solved
 /// value. `at_t0` holds the parameters' values and time = t0; `boolean[i]`
 /// says whether dae.discrete[i] is a Boolean. False after a diagnostic (a
-/// contradiction, or a value that does not follow). Variables that follow
-/// from the values of `at_t0` (add_values_that_follow) count as known.
+/// contradiction, or a value that does not follow). Variables that explicit
+/// equations give from the values of `at_t0` alone count as known.
 bool solve_initial_pre(Dae& dae, const std::vector<PreEquation>& eqs, const LeafValues& at_t0,
                        const std::vector<bool>& boolean, frontend::DiagnosticEngine& diags);
-
-/// Adds to `known` (values at t0 of parameters and time) the continuous
-/// variables that explicit equations `v = e` of dae.eqs give from known values
-/// alone, to a fixed point: those values hold at t0 whatever the initial
-/// system's other unknowns are (the MSL's AST_BatchPlant tank: a port height
-/// given as `RealInput h2 = ...` from a parameter record through a connect()).
-/// A non-finite value is not added.
-void add_values_that_follow(const Dae& dae, LeafValues& known);
 
 /// The discrete flag of `call`, a flat `sample(start, interval)`: one per
 /// distinct (start, interval), added to dae.discrete and dae.samples on first

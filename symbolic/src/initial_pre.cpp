@@ -172,15 +172,12 @@ private:
   bool ok_ = true;
 };
 
-}  // namespace
-
-bool solve_initial_pre(Dae& dae, const std::vector<PreEquation>& eqs, const LeafValues& at_t0,
-                       const std::vector<bool>& boolean, frontend::DiagnosticEngine& diags) {
-  LeafValues known = at_t0;
-  add_values_that_follow(dae, known);
-  return PreSolver(dae, eqs, known, boolean, diags).run();
-}
-
+/// Adds to `known` (values at t0 of parameters and time) the continuous
+/// variables that explicit equations `v = e` of dae.eqs give from known values
+/// alone, to a fixed point: those values hold at t0 whatever the initial
+/// system's other unknowns are (the MSL's AST_BatchPlant tank: a port height
+/// given as `RealInput h2 = ...` from a parameter record through a connect()).
+/// A non-finite value is not added.
 void add_values_that_follow(const Dae& dae, LeafValues& known) {
   const ExprArena& a = dae.arena;
   // Per equation `v = e` (each side that is a continuous symbol): the symbols
@@ -235,6 +232,15 @@ void add_values_that_follow(const Dae& dae, LeafValues& known) {
       for (const std::size_t j : it->second)
         if (--eqs[j].open == 0) ready.push_back(j);
   }
+}
+
+}  // namespace
+
+bool solve_initial_pre(Dae& dae, const std::vector<PreEquation>& eqs, const LeafValues& at_t0,
+                       const std::vector<bool>& boolean, frontend::DiagnosticEngine& diags) {
+  LeafValues known = at_t0;
+  add_values_that_follow(dae, known);
+  return PreSolver(dae, eqs, known, boolean, diags).run();
 }
 
 }  // namespace mo::symbolic::detail
