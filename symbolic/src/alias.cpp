@@ -153,7 +153,19 @@ private:
     const Expr ks = var(keep).symbol;
     eliminate(drop, a_.add(a_.mul(k, ks), c), ks, k);
     inherit_start(keep, drop, k, c);
+    inherit_state_select(keep, drop);
     return true;
+  }
+
+  /// An explicit stateSelect of `drop` that `keep` lacks becomes keep's: the
+  /// author's word on the quantity outlives the name that carried it. The
+  /// MSL's Body declares `r_0(stateSelect = StateSelect.avoid)` and is
+  /// connected to a frame whose `r_0` says nothing; keeping the frame's name
+  /// must not turn the body's position from avoided into a plain candidate
+  /// (a root body's orientation would then be solved from positions, which
+  /// cannot see the spin about the body's axis).
+  void inherit_state_select(int keep, int drop) {
+    if (var(keep).state_select.empty()) var(keep).state_select = var(drop).state_select;
   }
 
   /// v = der(x) with v not a derivative: v becomes der(x)'s replacement.

@@ -76,3 +76,37 @@ TEST_CASE("dummy pivots: a structurally valid but singular choice is found and r
   // Rows left without a dummy are outside the block.
   CHECK(regular_choice(jac, {0, -1, -1, -1}));
 }
+
+TEST_CASE("an explicit stateSelect outlives the alias that carried it", "[lower][states]") {
+  // A slider on a crank, s = L sin(phi): either (s, v) or (phi, w) are the
+  // states. The slider's own position avoids being one (as the MSL's Body
+  // declares r_0), and the connector's alias of it, which the equations
+  // differentiate, says nothing; alias elimination keeps the connector's
+  // name. The avoid used to be lost with the slider's name, and s became the
+  // state, phi solved from s = L sin(phi): singular at phi = pi/2 (the MSL's
+  // GyroscopicEffects solved a body's orientation from positions so).
+  const test::Compiled c = test::compile_text(R"(
+    model SliderCrank
+      parameter Real L = 0.5, m = 2, J = 0.1;
+      Real s(start = 0.1, stateSelect = StateSelect.avoid) "slider position";
+      Real s_frame "the connector's position";
+      Real v, phi, w, F;
+    equation
+      s_frame = s;
+      der(s_frame) = v;
+      m*der(v) = F;
+      der(phi) = w;
+      J*der(w) = -F*L*cos(phi) + sin(time);
+      L*sin(phi) - s_frame = 0;
+    end SliderCrank;)");
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  frontend::SourceManager sources;
+  frontend::DiagnosticEngine diags(sources);
+  const auto ode = symbolic::lower(*c.model, diags, {});
+  REQUIRE(ode);
+  std::vector<std::string> states;
+  for (const auto& x : ode->states) states.push_back(x.info.name);
+  std::sort(states.begin(), states.end());
+  CHECK(states == std::vector<std::string>{"phi", "w"});
+}
