@@ -316,6 +316,9 @@ private:
     const flat::Variable& v = fv(i);
     Slot& s = slots_[static_cast<std::size_t>(i)];
     VariableInfo info{v.name, v.description, v.attr.unit};
+    info.type = v.type == flat::BaseType::Boolean   ? ValueType::Boolean
+                : v.type == flat::BaseType::Integer ? ValueType::Integer
+                                                    : ValueType::Real;
     if (v.type == flat::BaseType::String) {
       // A String parameter (a table's file name, a machine's terminal
       // connection) served the flattening; only a use in an equation is an error (ref()).

@@ -42,10 +42,13 @@ std::string number(double v) {
 }
 
 /// The attribute list "(start = .., fixed = .., nominal = .., min = .., max = ..)".
-std::string attributes(const ExprArena& arena, const VariableInfo& info, Expr start,
-                       std::optional<bool> fixed) {
+/// `start` is written by `start_text` (print_declarations: the Writer, which
+/// names a large start value's shared parts, as a robot's start angles
+/// through its kinematic chain).
+template <class StartText>
+std::string attributes(const VariableInfo& info, Expr start, std::optional<bool> fixed, const StartText& start_text) {
   std::vector<std::string> parts;
-  if (start.valid()) parts.push_back("start = " + to_modelica(arena, start));
+  if (start.valid()) parts.push_back("start = " + start_text(start));
   if (fixed) parts.push_back(*fixed ? "fixed = true" : "fixed = false");
   if (info.nominal != 1.0) parts.push_back("nominal = " + number(info.nominal));
   if (std::isfinite(info.min)) parts.push_back("min = " + number(info.min));
@@ -78,6 +81,22 @@ struct Writer {
     std::string out;
     append_modelica(arena, e, out, names);
     return out;
+  }
+  /// Declared types of the variables that differ from Real (assignment targets).
+  std::unordered_map<Expr, ValueType, ExprHash> types;
+  /// `value` as the right-hand side of `target = value`: a Boolean target's
+  /// constants as false and true (the arena holds them as 0 and 1).
+  std::string value_text(Expr target, Expr value) const {
+    const auto it = types.find(target);
+    return it != types.end() && it->second == ValueType::Boolean ? boolean_text(value) : text(value);
+  }
+  std::string boolean_text(Expr e) const {
+    if (names.contains(e)) return text(e);
+    if (arena.is_constant(e)) return arena.constant_value(e) != 0.0 ? "true" : "false";
+    if (arena.kind(e) == ExprKind::Select)
+      return "if " + text(arena.operand(e, 0)) + " then " + boolean_text(arena.operand(e, 1)) + " else " +
+             boolean_text(arena.operand(e, 2));
+    return text(e);
   }
 };
 
@@ -147,7 +166,7 @@ Writer shared_terms(const ExprArena& a, std::vector<Expr> equations, std::span<c
 
 void print_step(const Writer& w, const Step& step, std::string& out) {
   if (const auto* a = std::get_if<Assignment>(&step)) {
-    out += "  " + w.text(a->target) + " = " + w.text(a->value) + ";\n";
+    out += "  " + w.text(a->target) + " = " + w.value_text(a->target, a->value) + ";\n";
     return;
   }
   const auto& b = std::get<EquationBlock>(step);
@@ -170,41 +189,56 @@ std::string prefix_of(const OdeModel& m, Expr symbol) {
   return {};
 }
 
-void print_declarations(const OdeModel& m, std::string& out) {
-  const ExprArena& a = m.arena;
+std::string_view type_name(const VariableInfo& info) {
+  switch (info.type) {
+  case ValueType::Integer: return "Integer";
+  case ValueType::Boolean: return "Boolean";
+  case ValueType::Real: break;
+  }
+  return "Real";
+}
+
+/// A start value in the variable's type: false and true for a Boolean.
+std::string typed_number(const VariableInfo& info, double v) {
+  if (info.type == ValueType::Boolean) return v != 0.0 ? "true" : "false";
+  return number(v);
+}
+
+void print_declarations(const OdeModel& m, const Writer& w, std::string& out) {
+  const auto text = [&](Expr e) { return w.text(e); };
   for (const auto& p : m.parameters)
     out += fmt::format("  parameter Real {}{} = {}{};\n", modelica_name(p.info.name),
-                       attributes(a, p.info, Expr(), std::nullopt), number(p.value),
+                       attributes(p.info, Expr(), std::nullopt, text), number(p.value),
                        comment(p.info));
   for (const auto& u : m.inputs)
-    out += fmt::format("  input Real {}{};\n", modelica_name(u.info.name), comment(u.info));
+    out += fmt::format("  input {} {}{};\n", type_name(u.info), modelica_name(u.info.name), comment(u.info));
   for (const auto& x : m.states)
     out += fmt::format("  {}Real {}{}{};\n", prefix_of(m, x.symbol), modelica_name(x.info.name),
-                       attributes(a, x.info, x.start, x.fixed), comment(x.info));
+                       attributes(x.info, x.start, x.fixed, text), comment(x.info));
   for (const auto& z : m.algebraics)
-    out += fmt::format("  {}Real {}{}{};\n", prefix_of(m, z.symbol), modelica_name(z.info.name),
-                       attributes(a, z.info, Expr(), std::nullopt), comment(z.info));
+    out += fmt::format("  {}{} {}{}{};\n", prefix_of(m, z.symbol), type_name(z.info), modelica_name(z.info.name),
+                       attributes(z.info, Expr(), std::nullopt, text), comment(z.info));
   for (std::size_t i = 0; i < m.discrete.size(); ++i) {
     const OdeDiscrete& d = m.discrete[i];
     if (static_cast<std::int32_t>(i) == m.initial_flag) continue;  // printed as initial()
     if (d.info.name.starts_with("sample(")) continue;  // printed as the call
-    out += fmt::format("  discrete Real {}(start = {}){};\n", modelica_name(d.info.name),
-                       number(d.start), comment(d.info));
+    out += fmt::format("  discrete {} {}(start = {}){};\n", type_name(d.info), modelica_name(d.info.name),
+                       typed_number(d.info, d.start), comment(d.info));
   }
   for (const auto& y : m.outputs)
-    if (!is_self_output(a, y))
-      out += fmt::format("  output Real {}{};\n", modelica_name(y.info.name), comment(y.info));
+    if (!is_self_output(m.arena, y))
+      out += fmt::format("  output {} {}{};\n", type_name(y.info), modelica_name(y.info.name), comment(y.info));
 }
 
 void print_when(const Writer& t, const OdeModel& m, const WhenClause& w, std::string& out) {
   if (w.every_event) {  // printed back as the equation it came from
     for (const auto& s : w.assignments)
-      out += "  " + t.text(s.target) + " = " + t.text(s.value) + ";\n";
+      out += "  " + t.text(s.target) + " = " + t.value_text(s.target, s.value) + ";\n";
     return;
   }
   out += "  when " + t.text(w.condition) + " then\n";
   for (const auto& s : w.assignments)
-    out += "    " + t.text(s.target) + " = " + t.text(s.value) + ";\n";
+    out += "    " + t.text(s.target) + " = " + t.value_text(s.target, s.value) + ";\n";
   for (const auto& r : w.reinits)
     out += "    reinit(" + modelica_name(m.states[r.state].info.name) + ", " + t.text(r.value) +
            ");\n";
@@ -322,16 +356,37 @@ std::unordered_set<std::string> declared_names(const OdeModel& m) {
 
 std::string print_ode(const OdeModel& m) {
   const ExprArena& a = m.arena;
-  const Writer w = shared_terms(a, printed_expressions(m), printed_expressions(m.initial_steps),
-                                declared_names(m));
+  std::vector<Expr> initial = printed_expressions(m.initial_steps);
+  for (const auto& x : m.states)
+    if (x.start.valid()) initial.push_back(x.start);
+  Writer w = shared_terms(a, printed_expressions(m), initial, declared_names(m));
+  for (const auto& z : m.algebraics)
+    if (z.info.type != ValueType::Real) w.types.emplace(z.symbol, z.info.type);
+  for (const auto& d : m.discrete)
+    if (d.info.type != ValueType::Real) w.types.emplace(d.symbol, d.info.type);
   std::string out = "model " + modelica_name(m.name) + "\n";
-  print_declarations(m, out);
+  print_declarations(m, w, out);
   for (Expr e : w.shared)
     out += "  Real " + w.names.at(e) + " \"a subexpression the equations share\";\n";
-  if (!m.initial_steps.empty()) {
+  // Shared parts of start values over parameters alone are parameters;
+  // those that read the initial system's unknowns ($init) go with its comment.
+  std::vector<Expr> of_init;
+  for (Expr e : w.initial) {
+    const auto from = leaves(a, std::span(&e, 1));
+    const bool parameters_only = std::all_of(from.begin(), from.end(), [&](Expr l) {
+      return a.kind(l) == ExprKind::Symbol && a.symbol_info(l).role == SymbolRole::Parameter;
+    });
+    if (!parameters_only) {
+      of_init.push_back(e);
+      continue;
+    }
+    out += "  parameter Real " + w.names.at(e) + " = " + w.definition(e) +
+           " \"a subexpression the start values share\";\n";
+  }
+  if (!m.initial_steps.empty() || !of_init.empty()) {
     // Comments: the $init symbols are not variables of the printed model.
     std::string init;
-    for (Expr e : w.initial) init += "  " + w.names.at(e) + " = " + w.definition(e) + ";\n";
+    for (Expr e : of_init) init += "  " + w.names.at(e) + " = " + w.definition(e) + ";\n";
     for (const Step& s : m.initial_steps) print_step(w, s, init);
     out += "  // initial system, solved at t0 before the start values that use its $init(...) unknowns:\n";
     for (std::size_t i = 0; i < init.size();) {
@@ -344,7 +399,9 @@ std::string print_ode(const OdeModel& m) {
   for (Expr e : w.shared) out += "  " + w.names.at(e) + " = " + w.definition(e) + ";\n";
   for (const Step& s : m.steps) print_step(w, s, out);
   for (const auto& y : m.outputs)
-    if (!is_self_output(a, y)) out += "  " + modelica_name(y.info.name) + " = " + w.text(y.value) + ";\n";
+    if (!is_self_output(a, y))
+      out += "  " + modelica_name(y.info.name) + " = " +
+             (y.info.type == ValueType::Boolean ? w.boolean_text(y.value) : w.text(y.value)) + ";\n";
   for (const auto& c : m.whens) print_when(w, m, c, out);
   if (!m.eliminated.empty()) {
     out += "  // eliminated variables, recoverable for results:\n";

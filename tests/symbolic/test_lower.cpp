@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <sys/wait.h>
 #include <random>
+#include <fmt/format.h>
 
 #include "../frontend/compile.hpp"
 #include "mo/symbolic/evaluator.hpp"
@@ -309,4 +310,75 @@ TEST_CASE("the printed ODE writes each large shared subexpression once, and read
       CHECK(interp.rhs(0, xs, {}, p)[0] == Approx(doubling_rhs(x, 0.9)).epsilon(1e-12).margin(1e-14));
     }
   }
+}
+
+TEST_CASE("the printed ODE names the shared parts of a large start value, and reads back the same") {
+  // z_k = a sin(z_{k-1}) + 0.1 z_{k-1}, fourteen times: 2^14 copies of `a`
+  // written out per start value (the MSL's fullRobot wrote its start angles so,
+  // through the kinematic chain, until the text ran out of memory).
+  std::string source = "model StartChain\n  parameter Real a = 0.9;\n  parameter Real z0 = a;\n";
+  for (int k = 1; k <= 14; ++k)
+    source += fmt::format("  parameter Real z{} = a*sin(z{}) + 0.1*z{};\n", k, k - 1, k - 1);
+  source += "  Real x(start = z14, fixed = true);\n  Real y(start = 2*z14, fixed = true);\n"
+            "equation\n  der(x) = -x;\n  der(y) = -y;\nend StartChain;\n";
+  double z = 0.9;
+  for (int k = 1; k <= 14; ++k) z = 0.9 * std::sin(z) + 0.1 * z;
+  const Lowered first = lower_sources({{"StartChain.mo", source}}, "StartChain");
+  REQUIRE(first.model);
+  const std::string text = print_ode(*first.model);
+  INFO(text);
+  CHECK(text.size() < 5000);
+  CHECK_THAT(text, Catch::Contains("parameter Real `$cse1` = "));
+  const Lowered second = lower_sources({{"StartChain.ode.mo", text}}, "StartChain");
+  INFO(second.diagnostics);
+  REQUIRE(second.model);
+  for (const OdeModel* m : {&*first.model, &*second.model}) {
+    LeafValues values;
+    for (const auto& p : m->parameters) values[p.symbol] = p.value;
+    REQUIRE(m->states.size() == 2);
+    CHECK(evaluate(m->arena, std::span(&m->states[0].start, 1), values)[0] == Approx(z).epsilon(1e-14));
+    CHECK(evaluate(m->arena, std::span(&m->states[1].start, 1), values)[0] == Approx(2 * z).epsilon(1e-14));
+  }
+}
+
+TEST_CASE("the printed ODE keeps Boolean and Integer types, and reads back to the same text") {
+  const std::string source = R"(
+model Hysteresis
+  Real x(start = 0, fixed = true);
+  Boolean on(start = false);
+  Integer n(start = 0);
+  Integer ticks(start = 0);
+  Boolean high = x > 0.3;
+  Integer level = if high then 2 else 1;
+equation
+  der(x) = if on then -1 else 1;
+  when x > 0.5 then
+    on = true;
+  end when;
+  when x < 0.2 then
+    on = false;
+  end when;
+  when on then
+    n = pre(n) + 1;
+  end when;
+  when sample(0, 0.5) then
+    ticks = pre(ticks) + 1;
+  end when;
+end Hysteresis;
+)";
+  const Lowered first = lower_sources({{"Hysteresis.mo", source}}, "Hysteresis");
+  REQUIRE(first.model);
+  const std::string text = print_ode(*first.model);
+  INFO(text);
+  // Booleans used to print as `discrete Real on(start = 0)` with `on = 1`,
+  // and `b = x > 0.3` then set a number equal to a Boolean: not a model.
+  CHECK_THAT(text, Catch::Contains("discrete Boolean on(start = false);"));
+  CHECK_THAT(text, Catch::Contains("discrete Integer n(start = 0);"));
+  CHECK_THAT(text, Catch::Contains("discrete Boolean high(start = false);"));
+  CHECK_THAT(text, Catch::Contains("  when x > 0.5 then\n    on = true;\n  end when;\n"));
+  CHECK_THAT(text, Catch::Contains("  high = x > 0.3;\n"));
+  const Lowered second = lower_sources({{"Hysteresis.ode.mo", text}}, "Hysteresis");
+  INFO(second.diagnostics);
+  REQUIRE(second.model);
+  CHECK(print_ode(*second.model) == text);
 }

@@ -31,6 +31,10 @@
 namespace mo::symbolic {
 
 /// What the modeller declared about a scalar that survives lowering.
+/// The Modelica type a variable was declared with (enumerations are
+/// Integer); every value is a double to the solvers, Booleans 0 or 1.
+enum class ValueType : std::uint8_t { Real, Integer, Boolean };
+
 struct VariableInfo {
   std::string name;         ///< flat Modelica name, e.g. "pendulum.phi" or "d(phi)/d(m2)"
   std::string description;  ///< the declaration's comment, may be empty
@@ -38,6 +42,7 @@ struct VariableInfo {
   double nominal = 1.0;     ///< scaling magnitude, > 0
   double min = -std::numeric_limits<double>::infinity();  ///< lower bound
   double max = std::numeric_limits<double>::infinity();   ///< upper bound
+  ValueType type = ValueType::Real;                       ///< as declared, for the text form
 };
 
 /// A forward sensitivity state S = ∂x_state/∂p_parameter (indices into the model).
