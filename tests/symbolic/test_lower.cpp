@@ -350,6 +350,7 @@ model Hysteresis
   Integer ticks(start = 0);
   Boolean high = x > 0.3;
   Integer level = if high then 2 else 1;
+  Integer whole = integer(2*x);
 equation
   der(x) = if on then -1 else 1;
   when x > 0.5 then
@@ -377,6 +378,7 @@ end Hysteresis;
   CHECK_THAT(text, Catch::Contains("discrete Boolean high(start = false);"));
   CHECK_THAT(text, Catch::Contains("  when x > 0.5 then\n    on = true;\n  end when;\n"));
   CHECK_THAT(text, Catch::Contains("  high = x > 0.3;\n"));
+  CHECK_THAT(text, Catch::Contains("  whole = integer(2*x);\n"));  // floor() is Real
   const Lowered second = lower_sources({{"Hysteresis.ode.mo", text}}, "Hysteresis");
   INFO(second.diagnostics);
   REQUIRE(second.model);
