@@ -84,31 +84,22 @@ struct Writer {
   }
   /// Declared types of the variables that differ from Real (assignment targets).
   std::unordered_map<Expr, ValueType, ExprHash> types;
-  /// `value` as the right-hand side of `target = value` in the target's
-  /// type (boolean_text, integer_text).
+  /// `value` as the right-hand side of `target = value` in the target's type.
   std::string value_text(Expr target, Expr value) const {
     const auto it = types.find(target);
-    if (it == types.end()) return text(value);
-    return it->second == ValueType::Boolean ? boolean_text(value) : integer_text(value);
+    return typed_text(value, it == types.end() ? ValueType::Real : it->second);
   }
-  /// A Boolean value: its constants as false and true (the arena holds them
-  /// as 0 and 1), through if-expressions.
-  std::string boolean_text(Expr e) const {
-    if (names.contains(e)) return text(e);
-    if (arena.is_constant(e)) return arena.constant_value(e) != 0.0 ? "true" : "false";
+  /// `e` as a value of `type`, through if-expressions: a Boolean's constants
+  /// as false and true (the arena holds them as 0 and 1), an Integer's
+  /// floor(x), which `integer(x)` lowers to, as integer(x) (floor is Real).
+  std::string typed_text(Expr e, ValueType type) const {
+    if (type == ValueType::Real || names.contains(e)) return text(e);
+    if (type == ValueType::Boolean && arena.is_constant(e)) return arena.constant_value(e) != 0.0 ? "true" : "false";
+    if (type == ValueType::Integer && arena.kind(e) == ExprKind::Floor)
+      return "integer(" + text(arena.operand(e, 0)) + ")";
     if (arena.kind(e) == ExprKind::Select)
-      return "if " + text(arena.operand(e, 0)) + " then " + boolean_text(arena.operand(e, 1)) + " else " +
-             boolean_text(arena.operand(e, 2));
-    return text(e);
-  }
-  /// An Integer value: floor(x), which `integer(x)` lowers to, as integer(x)
-  /// (floor is Real in Modelica), through if-expressions.
-  std::string integer_text(Expr e) const {
-    if (names.contains(e)) return text(e);
-    if (arena.kind(e) == ExprKind::Floor) return "integer(" + text(arena.operand(e, 0)) + ")";
-    if (arena.kind(e) == ExprKind::Select)
-      return "if " + text(arena.operand(e, 0)) + " then " + integer_text(arena.operand(e, 1)) + " else " +
-             integer_text(arena.operand(e, 2));
+      return "if " + text(arena.operand(e, 0)) + " then " + typed_text(arena.operand(e, 1), type) + " else " +
+             typed_text(arena.operand(e, 2), type);
     return text(e);
   }
 };
@@ -414,10 +405,7 @@ std::string print_ode(const OdeModel& m) {
   for (const auto& y : m.outputs)
     if (!is_self_output(a, y))
       out += "  " + modelica_name(y.info.name) + " = " +
-             (y.info.type == ValueType::Boolean   ? w.boolean_text(y.value)
-              : y.info.type == ValueType::Integer ? w.integer_text(y.value)
-                                                  : w.text(y.value)) +
-             ";\n";
+             w.typed_text(y.value, y.info.type) + ";\n";
   for (const auto& c : m.whens) print_when(w, m, c, out);
   if (!m.eliminated.empty()) {
     out += "  // eliminated variables, recoverable for results:\n";
