@@ -14,6 +14,21 @@ using namespace mo;
 using mo::symbolic::detail::CostEdge;
 using mo::symbolic::detail::tiered_matching;
 
+namespace {
+
+/// The lowered model of a compiled one (both steps required to succeed).
+std::optional<symbolic::OdeModel> lowered(const test::Compiled& c) {
+  INFO(c.diagnostics);
+  REQUIRE(c.ok());
+  frontend::SourceManager sources;
+  frontend::DiagnosticEngine diags(sources);
+  auto ode = symbolic::lower(*c.model, diags, {});
+  REQUIRE(ode);
+  return ode;
+}
+
+}  // namespace
+
 TEST_CASE("tiered matching: cheap edges win over the whole level, not row by row", "[lower][states]") {
   // Row 0 may take column 0 (cost 10) or 1 (13); row 1 only column 0 (10) or 2 (14).
   // Row by row, row 0 would take column 0 and leave row 1 with cost 14.
@@ -40,12 +55,7 @@ TEST_CASE("a differentiated variable is not eliminated through a scaled alias", 
       vr = R*ir;
       vc = V - vr;
     end ScaledCapacitor;)");
-  INFO(c.diagnostics);
-  REQUIRE(c.ok());
-  frontend::SourceManager sources;
-  frontend::DiagnosticEngine diags(sources);
-  const auto ode = symbolic::lower(*c.model, diags, {});
-  REQUIRE(ode);
+  const auto ode = lowered(c);
   REQUIRE(ode->states.size() == 1);
   CHECK(ode->states[0].info.name == "vc");
 }
@@ -99,12 +109,7 @@ TEST_CASE("an explicit stateSelect outlives the alias that carried it", "[lower]
       J*der(w) = -F*L*cos(phi) + sin(time);
       L*sin(phi) - s_frame = 0;
     end SliderCrank;)");
-  INFO(c.diagnostics);
-  REQUIRE(c.ok());
-  frontend::SourceManager sources;
-  frontend::DiagnosticEngine diags(sources);
-  const auto ode = symbolic::lower(*c.model, diags, {});
-  REQUIRE(ode);
+  const auto ode = lowered(c);
   std::vector<std::string> states;
   for (const auto& x : ode->states) states.push_back(x.info.name);
   std::sort(states.begin(), states.end());
