@@ -243,13 +243,15 @@ std::string hessian_tables(const Program& p) {
 std::string when_tables(const Program& p) {
   std::string out;
   std::vector<int> assign_start{0}, assign_target, assign_value, reinit_start{0}, reinit_state,
-      reinit_value, every_event, before_steps;
+      reinit_value, every_event, before_steps, group, branch;
   std::vector<std::string> sections, terminate_messages;  // messages escaped: model text
   for (const auto& w : p.whens) {
     sections.push_back(fmt::format("section_{}", w.section));
     terminate_messages.push_back(w.terminates ? cpp_string_literal(w.terminate_message) : "nullptr");
     every_event.push_back(w.every_event ? 1 : 0);
     before_steps.push_back(w.before_steps ? 1 : 0);
+    group.push_back(w.group);
+    branch.push_back(w.branch);
     for (auto [t, v] : w.assignments) assign_target.push_back(static_cast<int>(t)), assign_value.push_back(static_cast<int>(v));
     for (auto [x, v] : w.reinits) reinit_state.push_back(static_cast<int>(x)), reinit_value.push_back(static_cast<int>(v));
     assign_start.push_back(static_cast<int>(assign_target.size()));
@@ -261,6 +263,8 @@ std::string when_tables(const Program& p) {
   out += array("SectionFunction", "when_sections", sections, [](const std::string& s) { return s; });
   ints("when_every_event", every_event);
   ints("when_before_steps", before_steps);
+  ints("when_group", group);
+  ints("when_branch", branch);
   ints("when_assign_start", assign_start);
   ints("when_assign_target", assign_target);
   ints("when_assign_value", assign_value);

@@ -382,6 +382,8 @@ private:
       code.every_event = w.every_event;
       code.terminates = w.terminates;
       code.terminate_message = w.terminate_message;
+      code.group = w.prioritised ? w.group : -1;  // -1: fires on its own
+      code.branch = w.branch;
       code.before_steps = before_steps[k];
       new_section("when" + std::to_string(k), code.section);
       auto b = builder(after_steps_);

@@ -282,6 +282,7 @@ public:
       again = false;
       for (std::size_t k = 0; k < nwhen; ++k) {
         if (fired_[k] || when_every_event[k] || now_[k] == 0.0 || before_[k] != 0.0) continue;
+        if (earlier_branch_activated(k)) continue;
         if (initialising_) {
           if (init_fired_[k] != 0) continue;
           init_fired_[k] = 1;
@@ -433,6 +434,18 @@ private:
   // Discrete equations outside when-clauses hold at initialisation too (the
   // MSL's OnOffController: y = u < reference - bandwidth/2 or pre(y) and …
   // with pre(y) = false is true at t0 if u starts low).
+  /// `when a then ... elsewhen b then ...`: clause k of branch b does not
+  /// fire at an instant where a clause of an earlier branch of its
+  /// when-equation is activated (its condition became true) or has fired.
+  bool earlier_branch_activated(std::size_t k) const {
+    if (when_group[k] < 0 || when_branch[k] == 0) return false;
+    for (std::size_t i = 0; i < nwhen; ++i)
+      if (when_group[i] == when_group[k] && when_branch[i] < when_branch[k] &&
+          (fired_[i] || (now_[i] != 0.0 && before_[i] == 0.0)))
+        return true;
+    return false;
+  }
+
   static bool any_every_event() {
     for (std::size_t k = 0; k < nwhen; ++k)
       if (when_every_event[k]) return true;

@@ -56,6 +56,9 @@ struct DaeWhen {
   std::vector<std::pair<int, Expr>> reinits;  ///< (DaeVar index, value)
   bool terminates = false;                    ///< terminate(message) in the clause
   std::string terminate_message;              ///< its text (a literal or a String parameter's value)
+  std::int32_t group = -1;                    ///< WhenClause::group
+  std::int32_t branch = 0;                    ///< WhenClause::branch
+  bool prioritised = true;                    ///< WhenClause::prioritised
   frontend::SourceRange range;
 };
 

@@ -472,7 +472,9 @@ private:
   void if_equation(const ast::Equation& eq);
   std::optional<std::vector<Expr>> if_residuals(const ast::Equation& eq);
   void when_equation(const ast::Equation& eq);
-  void when_clause(const ast::Expr& condition, const ast::EquationBranch& branch);
+  void when_clause(const ast::Expr& condition, const ast::EquationBranch& branch, std::int32_t group,
+                   std::int32_t index);
+  bool branches_assign_alike(std::size_t first) const;
   /// The assignments of an if-equation inside a when-clause, as `v =
   /// if c1 then e1 elseif ... else en` per variable; false (reported) unless
   /// every branch, an else included, assigns the same variables.
@@ -499,6 +501,7 @@ private:
   std::optional<ExprConverter> conv_;
   LeafValues param_values_;  ///< default value of every parameter symbol
   std::unordered_map<Expr, VariableInfo*, ExprHash> info_of_;  ///< parameter/input/discrete info
+  std::int32_t when_groups_ = 0;  ///< when-equations seen (WhenClause::group)
   bool ok_ = true;
   bool in_initial_ = false;  ///< converting the initial equations (der() placeholders)
 };
@@ -789,20 +792,47 @@ std::optional<std::vector<Expr>> Builder::if_residuals(const ast::Equation& eq) 
 /// true at one call run the body once each, over the same pre() values, so
 /// their assignments agree.
 void Builder::when_equation(const ast::Equation& eq) {
-  for (const auto& br : eq.branches) {
+  const auto group = when_groups_++;
+  const std::size_t first = dae_.whens.size();
+  for (std::size_t b = 0; b < eq.branches.size(); ++b) {
+    const auto& br = eq.branches[b];
+    const auto index = static_cast<std::int32_t>(b);
     if (br.condition->kind == ast::ExprKind::Array) {
-      for (const auto& c : br.condition->args) when_clause(*c, br);
+      for (const auto& c : br.condition->args) when_clause(*c, br, group, index);
     } else {
-      when_clause(*br.condition, br);
+      when_clause(*br.condition, br, group, index);
     }
+  }
+  if (!branches_assign_alike(first)) {
+    diags_.report(DiagId::ElsewhenBranchesDiffer, eq.range,
+                  "the branches of this when-equation assign different variables, which Modelica forbids "
+                  "(§8.3.5.2); as in Scilab's modelicac, every branch whose condition becomes true fires");
+    for (std::size_t k = first; k < dae_.whens.size(); ++k) dae_.whens[k].prioritised = false;
   }
 }
 
-void Builder::when_clause(const ast::Expr& condition, const ast::EquationBranch& br) {
+/// Whether the branches of the when-equation whose clauses are
+/// dae_.whens[first, end) assign the same set of variables (reinit() and
+/// terminate() are not assignments).
+bool Builder::branches_assign_alike(std::size_t first) const {
+  std::optional<std::unordered_set<Expr, ExprHash>> assigned_by_first;
+  for (std::size_t k = first; k < dae_.whens.size(); ++k) {
+    std::unordered_set<Expr, ExprHash> targets;
+    for (const Assignment& a : dae_.whens[k].assignments) targets.insert(a.target);
+    if (!assigned_by_first) assigned_by_first = std::move(targets);
+    else if (targets != *assigned_by_first) return false;
+  }
+  return true;
+}
+
+void Builder::when_clause(const ast::Expr& condition, const ast::EquationBranch& br, std::int32_t group,
+                          std::int32_t index) {
   {
     DaeWhen w;
     w.condition = conv_->convert(condition);
     w.range = br.range;
+    w.group = group;
+    w.branch = index;
     for (const ast::Equation& s : br.body) {
       if (s.kind == ast::EquationKind::Simple && s.lhs->kind == ast::ExprKind::Ref &&
           s.lhs->var >= 0) {

@@ -258,7 +258,8 @@ private:
     out.outputs.insert(out.outputs.end(), dae_.outputs.begin(), dae_.outputs.end());
     out.eliminated.insert(out.eliminated.end(), dae_.eliminated.begin(), dae_.eliminated.end());
     for (const DaeWhen& w : dae_.whens) {
-      WhenClause c{w.condition, w.every_event, w.assignments, {}, w.terminates, w.terminate_message};
+      WhenClause c{w.condition, w.every_event, w.assignments, {}, w.terminates, w.terminate_message,
+                   w.group, w.branch, w.prioritised};
       for (const auto& [v, e] : w.reinits)
         if (state_of_.contains(at(v))) c.reinits.push_back({state_of_.at(at(v)), e});
       out.whens.push_back(std::move(c));

@@ -234,19 +234,48 @@ void print_declarations(const OdeModel& m, const Writer& w, std::string& out) {
       out += fmt::format("  output {} {}{};\n", type_name(y.info), modelica_name(y.info.name), comment(y.info));
 }
 
-void print_when(const Writer& t, const OdeModel& m, const WhenClause& w, std::string& out) {
-  if (w.every_event) {  // printed back as the equation it came from
-    for (const auto& s : w.assignments)
-      out += "  " + t.text(s.target) + " = " + t.value_text(s.target, s.value) + ";\n";
-    return;
-  }
-  out += "  when " + t.text(w.condition) + " then\n";
+/// The clauses [first, last) of m.whens that print as one when-equation:
+/// those after `first` of its group (elsewhen branches and the elements of a
+/// vector condition, adjacent as the lowering keeps them).
+std::size_t when_equation_end(const OdeModel& m, std::size_t first) {
+  std::size_t last = first + 1;
+  const WhenClause& w = m.whens[first];
+  if (w.every_event || w.group < 0) return last;
+  while (last < m.whens.size() && !m.whens[last].every_event && m.whens[last].group == w.group) ++last;
+  return last;
+}
+
+void print_clause_body(const Writer& t, const OdeModel& m, const WhenClause& w, std::string& out) {
   for (const auto& s : w.assignments)
     out += "    " + t.text(s.target) + " = " + t.value_text(s.target, s.value) + ";\n";
   for (const auto& r : w.reinits)
     out += "    reinit(" + modelica_name(m.states[r.state].info.name) + ", " + t.text(r.value) +
            ");\n";
   if (w.terminates) out += "    terminate(\"" + frontend::ast::escape_string(w.terminate_message) + "\");\n";
+}
+
+/// m.whens[first, last) as `when c then ... elsewhen ... end when;`, a branch
+/// of several clauses (a vector condition) as `{c1, c2}`.
+void print_when(const Writer& t, const OdeModel& m, std::size_t first, std::size_t last, std::string& out) {
+  const WhenClause& w0 = m.whens[first];
+  if (w0.every_event) {  // printed back as the equation it came from
+    for (const auto& s : w0.assignments)
+      out += "  " + t.text(s.target) + " = " + t.value_text(s.target, s.value) + ";\n";
+    return;
+  }
+  for (std::size_t i = first; i < last;) {
+    std::size_t j = i + 1;
+    while (j < last && m.whens[j].branch == m.whens[i].branch) ++j;
+    std::string condition = t.text(m.whens[i].condition);
+    if (j > i + 1) {
+      condition = "{" + condition;
+      for (std::size_t k = i + 1; k < j; ++k) condition += ", " + t.text(m.whens[k].condition);
+      condition += "}";
+    }
+    out += (i == first ? "  when " : "  elsewhen ") + condition + " then\n";
+    print_clause_body(t, m, m.whens[i], out);
+    i = j;
+  }
   out += "  end when;\n";
 }
 
@@ -406,7 +435,11 @@ std::string print_ode(const OdeModel& m) {
     if (!is_self_output(a, y))
       out += "  " + modelica_name(y.info.name) + " = " +
              w.typed_text(y.value, y.info.type) + ";\n";
-  for (const auto& c : m.whens) print_when(w, m, c, out);
+  for (std::size_t k = 0; k < m.whens.size();) {
+    const std::size_t end = when_equation_end(m, k);
+    print_when(w, m, k, end, out);
+    k = end;
+  }
   if (!m.eliminated.empty()) {
     out += "  // eliminated variables, recoverable for results:\n";
     for (const auto& e : m.eliminated)

@@ -143,6 +143,24 @@ TEST_CASE("when {a, b, c} fires when any element becomes true, once per instant"
   CHECK(discrete_value(*model, "m") == 1.0);  // `or` stays true at 0.6
 }
 
+TEST_CASE("an elsewhen branch holds only where no earlier branch is activated (WhenElsewhen)", "[events]") {
+  // All three when-equations have both branches activated at one instant
+  // (t = 0.5, 0.9), or the second's activated while the first's condition
+  // stays true (the ticks after t = 0.2). Each clause used to fire alone, the
+  // last one winning: k = 2, v = 100. The fourth is Scilab's kind.
+  auto model = compiled_model("e2e_when_elsewhen", {{kData + "WhenElsewhen.mo", "", {}, true}, {}});
+  const auto p = model->info().default_parameters();
+  const auto r = runtime::simulate(*model, {}, p, runtime::OutputGrid::uniform(0, 1.0, 10), tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  CHECK(discrete_value(*model, "k") == 1.0);
+  CHECK(discrete_value(*model, "n") == 13.0);
+  CHECK(discrete_value(*model, "v") == 2.0);
+  // Branches assigning different variables: each fires (Scilab's rule).
+  CHECK(discrete_value(*model, "a") == 1.0);
+  CHECK(discrete_value(*model, "b") == 1.0);
+}
+
 TEST_CASE("initial equation pre(y) = y_start fixes the value before initialisation") {
   // T is a triangle between 0.2 and 0.8 of slope ±1; from T(0) = 0.5 it
   // first rises (pre(y) = true) or falls (false).

@@ -341,7 +341,7 @@ TEST_CASE("the printed ODE names the shared parts of a large start value, and re
   }
 }
 
-TEST_CASE("the printed ODE keeps Boolean and Integer types, and reads back to the same text") {
+TEST_CASE("the printed ODE keeps Boolean and Integer types and when/elsewhen, and reads back to the same text") {
   const std::string source = R"(
 model Hysteresis
   Real x(start = 0, fixed = true);
@@ -355,11 +355,10 @@ equation
   der(x) = if on then -1 else 1;
   when x > 0.5 then
     on = true;
-  end when;
-  when x < 0.2 then
+  elsewhen x < 0.2 then
     on = false;
   end when;
-  when on then
+  when {on, time > 3} then
     n = pre(n) + 1;
   end when;
   when sample(0, 0.5) then
@@ -372,15 +371,56 @@ end Hysteresis;
   const std::string text = print_ode(*first.model);
   INFO(text);
   // Booleans used to print as `discrete Real on(start = 0)` with `on = 1`,
-  // and `b = x > 0.3` then set a number equal to a Boolean: not a model.
+  // and `b = x > 0.3` then set a number equal to a Boolean: not a model; the
+  // elsewhen printed as a second when-clause of `on`, which Modelica's single
+  // assignment forbids.
   CHECK_THAT(text, Catch::Contains("discrete Boolean on(start = false);"));
   CHECK_THAT(text, Catch::Contains("discrete Integer n(start = 0);"));
   CHECK_THAT(text, Catch::Contains("discrete Boolean high(start = false);"));
-  CHECK_THAT(text, Catch::Contains("  when x > 0.5 then\n    on = true;\n  end when;\n"));
+  CHECK_THAT(text, Catch::Contains("  when x > 0.5 then\n    on = true;\n  elsewhen x < 0.2 then\n    on = false;\n  end when;\n"));
+  CHECK_THAT(text, Catch::Contains("  when {on, time > 3} then\n    n = pre(n) + 1;\n  end when;\n"));
   CHECK_THAT(text, Catch::Contains("  high = x > 0.3;\n"));
   CHECK_THAT(text, Catch::Contains("  whole = integer(2*x);\n"));  // floor() is Real
   const Lowered second = lower_sources({{"Hysteresis.ode.mo", text}}, "Hysteresis");
   INFO(second.diagnostics);
   REQUIRE(second.model);
   CHECK(print_ode(*second.model) == text);
+}
+
+TEST_CASE("elsewhen branches that assign different variables fire on their own, with a warning") {
+  // Coselica's friction elements chain mode transitions so; only Scilab's
+  // modelicac accepts it (Modelica 3 §8.3.5.2), and fires each branch whose
+  // condition becomes true. Branches assigning alike keep Modelica's priority.
+  const std::string source = R"(
+model Modes
+  Real x(start = 0, fixed = true);
+  discrete Real a(start = 0);
+  discrete Real b(start = 0);
+  discrete Real c(start = 0);
+equation
+  der(x) = 1;
+  when x > 0.5 then
+    a = 1;
+  elsewhen x > 0.7 then
+    b = 1;
+  end when;
+  when x > 0.2 then
+    c = 1;
+  elsewhen x > 0.3 then
+    c = 2;
+  end when;
+end Modes;
+)";
+  const Lowered r = lower_sources({{"Modes.mo", source}}, "Modes");
+  REQUIRE(r.model);
+  const std::string warning = "the branches of this when-equation assign different variables";
+  const auto at = r.diagnostics.find(warning);
+  CHECK(at != std::string::npos);
+  CHECK(r.diagnostics.find(warning, at + 1) == std::string::npos);  // the second chain is Modelica
+  REQUIRE(r.model->whens.size() == 4);
+  CHECK_FALSE(r.model->whens[0].prioritised);
+  CHECK_FALSE(r.model->whens[1].prioritised);
+  CHECK(r.model->whens[2].prioritised);
+  CHECK(r.model->whens[3].prioritised);
+  CHECK(r.model->whens[0].group == r.model->whens[1].group);
 }

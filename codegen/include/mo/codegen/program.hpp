@@ -125,6 +125,8 @@ struct WhenCode {
   std::vector<std::pair<std::size_t, Slot>> reinits;  ///< (state index, value slot)
   bool terminates = false;        ///< terminate(): the run ends when the clause fires
   std::string terminate_message;  ///< its text
+  int group = -1;  ///< symbolic::WhenClause::group where prioritised, else -1: the branches a clause yields to
+  int branch = 0;  ///< symbolic::WhenClause::branch
 };
 
 /// A sample(start, interval) as slots (symbolic::OdeSample): the `samples`

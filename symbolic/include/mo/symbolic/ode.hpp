@@ -153,6 +153,19 @@ struct WhenClause {
   std::vector<Reinit> reinits;
   bool terminates = false;         ///< terminate(): the simulation ends successfully when it fires
   std::string terminate_message;   ///< terminate()'s text
+  /// `when c0 then ... elsewhen c1 then ...`: the clauses of one when-equation
+  /// share `group` (>= 0; -1 for a clause alone), `branch` is the index of the
+  /// branch they come from (a vector condition gives a clause per element, of
+  /// the same branch). A clause does not fire at an instant where a clause of
+  /// an earlier branch of its group is activated (Modelica 3 §8.3.5), unless
+  /// the group is not `prioritised`.
+  std::int32_t group = -1;
+  std::int32_t branch = 0;
+  /// False for a when-equation whose branches assign different variables:
+  /// Modelica forbids it (§8.3.5.2); Scilab's modelicac, for which Coselica's
+  /// friction elements are written so, fires every branch whose condition
+  /// becomes true, and so do its clauses here.
+  bool prioritised = true;
 };
 
 /// `sample(start, interval)`: time events at exactly start + k·interval,
