@@ -247,47 +247,80 @@ ClassNode *Flattener::redeclared_in_extends(ClassNode *cls, const ast::Extends &
   return nullptr;
 }
 
-ClassNode *Flattener::lookup_class(ClassNode *scope, const std::vector<std::string> &parts,
-                                   bool global, SourceRange where, bool report) {
-  ClassNode *found = nullptr;
-  if (global) {
-    found = find_member_class(&lib_.root, parts[0]);
-  } else {
-    for (ClassNode *s = scope; s && !found; s = s->parent) {
-      found = find_member_class(s, parts[0]);
-      if (found || !s->def)
-        continue;
-      for (const auto &imp : s->def->imports) {
-        if (!imp.alias.empty() && imp.alias == parts[0]) {
-          found = lookup_class(&lib_.root, imp.path, true, imp.range, false);
-        } else if (imp.wildcard) {
-          if (ClassNode *pkg = lookup_class(&lib_.root, imp.path, true, imp.range, false))
-            found = find_member_class(pkg, parts[0]);
-        } else if (!imp.names.empty()) {
-          for (const auto &n : imp.names)
-            if (n == parts[0])
-              if (ClassNode *pkg = lookup_class(&lib_.root, imp.path, true, imp.range, false))
-                found = find_member_class(pkg, n);
-        } else if (imp.alias.empty() && !imp.path.empty() && imp.path.back() == parts[0]) {
-          found = lookup_class(&lib_.root, imp.path, true, imp.range, false);
-        }
-        if (found)
-          break;
+/// `name` looked up from `scope` outwards through the enclosing classes and
+/// their imports (MLS 5.3.1); `from` is set to the scope it was found in.
+ClassNode *Flattener::lookup_first(ClassNode *scope, const std::string &name, ClassNode *&from) {
+  for (ClassNode *s = scope; s; s = s->parent) {
+    from = s;
+    if (ClassNode *found = find_member_class(s, name))
+      return found;
+    if (!s->def)
+      continue;
+    for (const auto &imp : s->def->imports) {
+      ClassNode *found = nullptr;
+      if (!imp.alias.empty() && imp.alias == name) {
+        found = lookup_class(&lib_.root, imp.path, true, imp.range, false);
+      } else if (imp.wildcard) {
+        if (ClassNode *pkg = lookup_class(&lib_.root, imp.path, true, imp.range, false))
+          found = find_member_class(pkg, name);
+      } else if (!imp.names.empty()) {
+        for (const auto &n : imp.names)
+          if (n == name)
+            if (ClassNode *pkg = lookup_class(&lib_.root, imp.path, true, imp.range, false))
+              found = find_member_class(pkg, n);
+      } else if (imp.alias.empty() && !imp.path.empty() && imp.path.back() == name) {
+        found = lookup_class(&lib_.root, imp.path, true, imp.range, false);
       }
-      if (s->def && s->def->encapsulated && !found) {
-        found = find_member_class(&lib_.root, parts[0]);
-        break;
-      }
+      if (found)
+        return found;
+    }
+    if (s->def->encapsulated) {
+      from = &lib_.root;
+      return find_member_class(&lib_.root, name);
     }
   }
-  for (std::size_t i = 1; found && i < parts.size(); ++i)
-    found = find_member_class(found, parts[i]);
-  if (!found && report) {
-    std::string n;
-    for (std::size_t i = 0; i < parts.size(); ++i)
-      n += (i ? "." : "") + parts[i];
-    fail(DiagId::UnknownClass, where, "unknown class '" + n + "'");
+  return nullptr;
+}
+
+static std::string joined(const std::vector<std::string> &parts) {
+  std::string n;
+  for (std::size_t i = 0; i < parts.size(); ++i)
+    n += (i ? "." : "") + parts[i];
+  return n;
+}
+
+ClassNode *Flattener::lookup_class(ClassNode *scope, const std::vector<std::string> &parts,
+                                   bool global, SourceRange where, bool report) {
+  auto rest = [&](ClassNode *found) {
+    for (std::size_t i = 1; found && i < parts.size(); ++i)
+      found = find_member_class(found, parts[i]);
+    return found;
+  };
+  if (global) {
+    ClassNode *found = rest(find_member_class(&lib_.root, parts[0]));
+    if (!found && report)
+      fail(DiagId::UnknownClass, where, "unknown class '" + joined(parts) + "'");
+    return found;
   }
+  ClassNode *from = nullptr;
+  ClassNode *first = lookup_first(scope, parts[0], from);
+  ClassNode *found = rest(first);
+  // Modelica's lookup of A.B stops at the nearest A (MLS 5.3.2), and B must
+  // be in it. JModelica goes on outwards to an A that has a B: its Optimica
+  // examples name `DoublePendulum.DoublePendulum` inside package
+  // DoublePendulum, whose model DoublePendulum is the nearest. Taken so,
+  // with a warning.
+  for (ClassNode *outer = first; !found && outer && from && from->parent;) {
+    outer = lookup_first(from->parent, parts[0], from);
+    found = rest(outer);
+    if (found && outer_lookup_warned_.insert({where.file, where.begin}).second)
+      diags_.report(DiagId::OuterLookup, where,
+                    "'" + joined(parts) + "': the nearest '" + parts[0] + "' is '" + first->path() +
+                        "', which has no element '" + parts[1] + "' (Modelica looks no further, §5.3.2); the '" +
+                        parts[0] + "' further out, '" + outer->path() + "', is taken, as JModelica does");
+  }
+  if (!found && report)
+    fail(DiagId::UnknownClass, where, "unknown class '" + joined(parts) + "'");
   return found;
 }
 

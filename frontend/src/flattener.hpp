@@ -334,6 +334,8 @@ public:
   // -- lookup (flatten_lookup.cpp)
   ClassNode *lookup_class(ClassNode *scope, const std::vector<std::string> &parts, bool global,
                           SourceRange where, bool report = true);
+  ClassNode *lookup_first(ClassNode *scope, const std::string &name, ClassNode *&from);
+  std::set<std::pair<FileId, std::uint32_t>> outer_lookup_warned_; ///< (file, offset) of names warned about
   ClassNode *find_member_class(ClassNode *cls, const std::string &name, unsigned depth = 0);
   ClassNode *search_member_class(ClassNode *cls, const std::string &name, unsigned depth);
   std::set<std::pair<ClassNode *, std::string>> member_searches_; ///< in progress in find_member_class

@@ -275,3 +275,26 @@ end WhenIf;
   INFO(c.diagnostics);
   CHECK(c.ok()); // 2 equations for 2 unknowns; before: 1 for 2
 }
+
+TEST_CASE("A.B whose nearest A lacks B is looked up further out, as JModelica does, with a warning", "[flatten]") {
+  // JModelica's Optimica examples (DoublePendulum.mop) are written so: inside
+  // package Pend, `Pend.Pend` names the package's model Pend, and Modelica's
+  // lookup (§5.3.2) stops at the nearest Pend, the model, which has no Pend.
+  const Source lib{"Pend.mo", "package Pend\n  model Pend\n    Real x(start = 1, fixed = true);\n  equation\n"
+                              "    der(x) = -x;\n  end Pend;\n  model Feedback\n    Pend p;\n  end Feedback;\nend Pend;\n"};
+  const Source opt{"Opt.mo", "within Pend;\nmodel Opt\n  Pend.Pend p;\nend Opt;\n"};
+  const Compiled c = compile({lib, opt}, "Pend.Opt");
+  REQUIRE(c.ok());
+  CHECK(c.model->variables.size() == 1);
+  CHECK_THAT(c.diagnostics, Catch::Contains("Opt.mo:3:3: warning: 'Pend.Pend': the nearest 'Pend' is 'Pend.Pend', "
+                                            "which has no element 'Pend'"));
+  CHECK_THAT(c.diagnostics, Catch::Contains("the 'Pend' further out, 'Pend', is taken"));
+  // Modelica's own lookup finds the model: no warning for Feedback.
+  const Compiled f = compile({lib}, "Pend.Feedback");
+  REQUIRE(f.ok());
+  CHECK(f.diagnostics.empty());
+  // No A further out has a B either: still an unknown class.
+  const Compiled bad = compile({lib, {"Bad.mo", "within Pend;\nmodel Bad\n  Pend.Nothing p;\nend Bad;\n"}}, "Pend.Bad");
+  CHECK_FALSE(bad.ok());
+  CHECK_THAT(bad.diagnostics, Catch::Contains("unknown class 'Pend.Nothing'"));
+}
