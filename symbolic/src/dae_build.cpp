@@ -215,7 +215,20 @@ private:
             discrete_.insert(s.lhs->var);
         }
     }
+    for (const ast::Equation& eq : f_.initial_equations)
+      if (const int p = computes_discrete_parameter(eq); p >= 0) discrete_.insert(p);
     mark_event_equations();
+  }
+
+  /// The Boolean or Integer parameter computed by the initial equation `eq`
+  /// when it is `p = expr` or `expr = p` (p fixed = false, unbound), or -1.
+  int computes_discrete_parameter(const ast::Equation& eq) const {
+    if (eq.kind != ast::EquationKind::Simple) return -1;
+    for (const ast::Expr* side : {eq.lhs.get(), eq.rhs.get()})
+      if (side->kind == ast::ExprKind::Ref && side->var >= 0 && computed_parameter(fv(side->var)) &&
+          fv(side->var).type != flat::BaseType::Real)
+        return side->var;
+    return -1;
   }
 
   /// Modelica 3 §8.6: a Boolean, Integer or `discrete` variable changes only
@@ -326,11 +339,21 @@ private:
         error(DiagId::UnsupportedInLowering, v.range, "String variables cannot be lowered");
         s = {Slot::Value, none, dae_.arena.constant(0.0)};
       }
+    } else if (v.variability == ast::Variability::Parameter && discrete_.contains(i)) {
+      // A Boolean or Integer parameter that an initial equation `p = expr`
+      // computes (fixed = false): a discrete variable that `when initial()`
+      // sets (discrete_initial_assignment) and nothing changes after. The
+      // MSL's RevoluteWithLengthConstraint picks its branch of the loop's
+      // solution so from the positions at t0.
+      declare_discrete(i, info);
     } else if (v.variability == ast::Variability::Constant ||
                (v.variability == ast::Variability::Parameter &&
-                (v.type != flat::BaseType::Real || (v.evaluate && v.value)))) {
+                (v.type != flat::BaseType::Real || (v.evaluate && v.value && !reads_computed_parameter(i))))) {
       // Evaluate = true: a structural value, used as a constant (the MSL's
-      // HeatingNPN_OrGate sets every capacitance to CapVal = 0 so).
+      // HeatingNPN_OrGate sets every capacitance to CapVal = 0 so). Not one
+      // the initial equations compute, or whose binding reads one: its value
+      // is unknown until then (the MSL's JointRRR declares its axis n_b
+      // `fixed = false` and Evaluate = true, and an initial equation gives it).
       s = {Slot::Value, none, dae_.arena.constant(v.value.value_or(0.0))};
     } else if (computed_parameter(v)) {
       // Real, fixed = false, no binding: an unknown of the initial system that keeps
@@ -347,9 +370,7 @@ private:
       s = {Slot::Value, none, dae_.arena.symbol(v.name, SymbolRole::Input, k)};
       dae_.inputs.push_back({info, s.value});
     } else if (discrete_.contains(i)) {
-      const auto k = static_cast<std::int32_t>(dae_.discrete.size());
-      s = {Slot::Value, none, dae_.arena.symbol(v.name, SymbolRole::Discrete, k)};
-      dae_.discrete.push_back({info, s.value, 0.0});
+      declare_discrete(i, info);
     } else {
       DaeVar d;
       d.info = info;
@@ -361,6 +382,34 @@ private:
 
   /// A Real parameter with a literal value becomes a parameter symbol; one
   /// bound to an expression of other parameters is inlined when referenced.
+  void declare_discrete(int i, const VariableInfo& info) {
+    const auto k = static_cast<std::int32_t>(dae_.discrete.size());
+    Slot& s = slots_[static_cast<std::size_t>(i)];
+    s = {Slot::Value, none, dae_.arena.symbol(fv(i).name, SymbolRole::Discrete, k)};
+    dae_.discrete.push_back({info, s.value, 0.0});
+  }
+
+  /// Whether parameter i is computed by the initial equations or its binding
+  /// reads, at any depth, one that is.
+  bool reads_computed_parameter(int i) {
+    auto& known = reads_computed_[i];  // inserted as false: a cycle reads nothing more
+    if (computed_parameter(fv(i))) return known = true;
+    if (!fv(i).binding) return false;
+    std::vector<const ast::Expr*> todo{fv(i).binding.get()};
+    while (!todo.empty()) {
+      const ast::Expr* x = todo.back();
+      todo.pop_back();
+      if (x->var >= 0 && fv(x->var).variability == ast::Variability::Parameter) {
+        const auto it = reads_computed_.find(x->var);
+        if (it != reads_computed_.end() ? it->second : reads_computed_parameter(x->var)) return known = true;
+      }
+      for (const auto& a : x->args) if (a) todo.push_back(a.get());
+      for (const auto& n : x->named) if (n.value) todo.push_back(n.value.get());
+      for (const auto& row : x->rows) for (const auto& a : row) if (a) todo.push_back(a.get());
+    }
+    return false;
+  }
+
   void declare_parameter(int i, const VariableInfo& info) {
     const flat::Variable& v = fv(i);
     const bool literal = !v.binding || v.binding->kind == ast::ExprKind::Real ||
@@ -502,6 +551,7 @@ private:
   LeafValues param_values_;  ///< default value of every parameter symbol
   std::unordered_map<Expr, VariableInfo*, ExprHash> info_of_;  ///< parameter/input/discrete info
   std::int32_t when_groups_ = 0;  ///< when-equations seen (WhenClause::group)
+  std::unordered_map<int, bool> reads_computed_;  ///< reads_computed_parameter(), memoised
   bool ok_ = true;
   bool in_initial_ = false;  ///< converting the initial equations (der() placeholders)
 };
@@ -567,6 +617,7 @@ void Builder::initial_equations() {
   for (const ast::Equation& eq : f_.initial_equations) {
     switch (eq.kind) {
     case ast::EquationKind::Simple: {
+      if (computes_discrete_parameter(eq) >= 0 && discrete_initial_assignment(eq)) continue;
       std::int32_t p = free_start_parameter(*eq.lhs, f_);
       if (p < 0) p = free_start_parameter(*eq.rhs, f_);
       if (p >= 0) {  // a parameter computed at initialisation: not supported

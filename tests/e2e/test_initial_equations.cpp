@@ -154,6 +154,26 @@ TEST_CASE("a fixed = false parameter is computed by the initial system - sensiti
   check_sensitivity("FreeParameter", "c", {"T_final"}, 1e-6);   // T_final = 3c
 }
 
+TEST_CASE("fixed = false parameters under Evaluate = true, and Boolean and Integer ones, are computed at t0") {
+  const auto [ok, text] = lower_text("FreeParameterKinds");
+  INFO(text);
+  REQUIRE(ok);
+  CHECK(text.find("warning") == std::string::npos);  // the Boolean's equation used to be ignored
+  auto model = compiled_model("e2e_init_FreeParameterKinds", {source("FreeParameterKinds"), {}});
+  const auto p = model->info().default_parameters();
+  const auto grid = runtime::OutputGrid::uniform(0, 1, 10);
+  const auto x = run(*model, p, "x", grid), z = run(*model, p, "z", grid), y = run(*model, p, "y", grid);
+  for (std::size_t k = 0; k < grid.times.size(); ++k) {
+    const double t = grid.times[k];
+    INFO("t = " << t);
+    CHECK(x[k] == Approx(2 * std::exp(-t)).epsilon(1e-7));
+    CHECK(z[k] == Approx(4 * t).margin(1e-9));
+    CHECK(y[k] == Approx(6 * t).margin(1e-9));
+  }
+  CHECK(discrete_value(*model, "positive") == 1.0);
+  CHECK(discrete_value(*model, "n") == 6.0);
+}
+
 TEST_CASE("a fixed = true variable that is not a state sets the initial state without initial equations") {
   const symbolic::OdeModel m = lower_spec({source("FixedAlgebraic"), {}});
   std::vector<double> p;

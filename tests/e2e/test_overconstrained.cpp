@@ -4,9 +4,11 @@
 // pendulum's equation of motion; a loop's broken connection gets the
 // equalityConstraint residue, a graph without a root is reported. The MSL's MultiBody Pendulum against the same equation, and its
 // PointGravity's free bodies against their Kepler orbits.
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <functional>
+#include <map>
 #include <numbers>
 #include <sstream>
 
@@ -268,4 +270,49 @@ TEST_CASE("the MSL's MultiBody ThreeSprings: a free body on springs keeps its en
   }
   CHECK(swing > 0.1);  // the body moves: its weight's potential changes by more than 0.1 J
   CHECK(drift < 1e-6);
+}
+
+TEST_CASE("the MSL's MultiBody PlanarLoops_analytic: three loops stay closed as the drive turns", "[msl]") {
+  const std::string name = "e2e_msl_multibody_planar_loops";
+  auto model = msl_compiled_model(name, {{kData + "MslMultiBody.mo", "PlanarLoops_analytic", {}, true}, {}, true});
+  if (!model) return;
+  const auto p = model->info().default_parameters();
+  const auto grid = runtime::OutputGrid::uniform(0, 5, 50);
+  const auto r = runtime::simulate(*model, {}, p, grid, tight());
+  INFO(r.message);
+  REQUIRE(r.ok());
+  std::map<std::string, std::vector<double>> columns;
+  const auto position = [&](const std::string &frame, std::size_t k) {
+    std::array<double, 3> x{};
+    for (int i = 0; i < 3; ++i) {
+      const std::string v = frame + ".r_0[" + std::to_string(i + 1) + "]";
+      if (!columns.contains(v)) columns[v] = variable(name, r.trajectory, p, v);
+      x[static_cast<std::size_t>(i)] = columns[v][k];
+    }
+    return x;
+  };
+  const auto distance = [](const std::array<double, 3> &a, const std::array<double, 3> &b) {
+    return std::hypot(a[0] - b[0], a[1] - b[1], a[2] - b[2]);
+  };
+  // The example's rods: r1a = r1b + rh - rv = (0.6, 0, 0), r1b = (0.1, 0.5, 0),
+  // r2a = r2b + rh - r1b = (0.5, 0.1, 0), r2b = (0.1, 0.6, 0),
+  // r3a = r3b + rh - r2b = (0.4, -0.05, 0), r3b = (0, 0.55, 0).
+  const struct {
+    const char *joint;
+    double rod1, rod2;
+  } joints[] = {{"jointRRR1", 0.6, std::hypot(0.1, 0.5)},
+                {"jointRRR2", std::hypot(0.5, 0.1), std::hypot(0.1, 0.6)},
+                {"jointRRR3", std::hypot(0.4, 0.05), 0.55}};
+  const auto drive = variable(name, r.trajectory, p, "rev.phi");
+  // The sine's amplitude is 0.7 rad, through the position source's filter.
+  CHECK(*std::max_element(drive.begin(), drive.end()) > 0.6);
+  CHECK(*std::min_element(drive.begin(), drive.end()) < -0.6);
+  for (const auto &j : joints)
+    for (std::size_t k = 0; k < grid.times.size(); ++k) {
+      const std::string J = j.joint;
+      INFO(J << " at t = " << grid.times[k]);
+      CHECK(distance(position(J + ".frame_im", k), position(J + ".frame_ia", k)) == Approx(j.rod1).epsilon(1e-9));
+      CHECK(distance(position(J + ".frame_im", k), position(J + ".frame_ib", k)) == Approx(j.rod2).epsilon(1e-9));
+      CHECK(distance(position(J + ".frame_a", k), position(J + ".frame_ia", k)) == Approx(0).margin(1e-12));
+    }
 }

@@ -24,3 +24,11 @@ end PointGravity;
 model ThreeSprings
   extends Modelica.Mechanics.MultiBody.Examples.Elementary.ThreeSprings;
 end ThreeSprings;
+
+// Three planar loops closed analytically by JointRRR assemblies, driven by a
+// prescribed sine angle: each joint's axis n_b (fixed = false, Evaluate =
+// true) and branch of the loop's solution (a Boolean fixed = false) are
+// computed by its initial equations.
+model PlanarLoops_analytic
+  extends Modelica.Mechanics.MultiBody.Examples.Loops.PlanarLoops_analytic;
+end PlanarLoops_analytic;
