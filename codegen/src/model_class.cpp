@@ -431,9 +431,6 @@ private:
     lower_samples();
     std::fill(fired_count_.begin(), fired_count_.end(), 0);
   }
-  // Discrete equations outside when-clauses hold at initialisation too (the
-  // MSL's OnOffController: y = u < reference - bandwidth/2 or pre(y) and …
-  // with pre(y) = false is true at t0 if u starts low).
   /// `when a then ... elsewhen b then ...`: clause k of branch b does not
   /// fire at an instant where a clause of an earlier branch of its
   /// when-equation is activated (its condition became true) or has fired.
@@ -446,6 +443,9 @@ private:
     return false;
   }
 
+  // Discrete equations outside when-clauses hold at initialisation too (the
+  // MSL's OnOffController: y = u < reference - bandwidth/2 or pre(y) and …
+  // with pre(y) = false is true at t0 if u starts low).
   static bool any_every_event() {
     for (std::size_t k = 0; k < nwhen; ++k)
       if (when_every_event[k]) return true;
