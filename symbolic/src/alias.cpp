@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <unordered_map>
 
 #include "mo/symbolic/substitute.hpp"
 #include "mo/symbolic/traversal.hpp"
@@ -19,22 +20,61 @@ struct LinearForm {
   Expr rest;
 };
 
-/// True if `e` has a variable, time, input or discrete leaf (not a constant
-/// expression of parameters).
-bool time_varying(const Dae& dae, Expr e) {
-  for (Expr l : leaves(dae.arena, std::span(&e, 1))) {
-    if (dae.arena.kind(l) != ExprKind::Symbol) return true;
-    if (dae.arena.symbol_info(l).role != SymbolRole::Parameter) return true;
-  }
-  return false;
-}
+/// Whether an expression has a variable, time, input or discrete leaf (is not
+/// a constant expression of parameters), memoised over the graph: the same
+/// subexpressions are asked about at every product of every residual in every
+/// pass (walking each one's leaves anew was quadratic in a large residual's
+/// size: most of the MSL's EngineV6's lowering).
+class TimeVarying {
+public:
+  explicit TimeVarying(const Dae& dae) : a_(dae.arena) {}
 
-std::optional<LinearForm> linear_form(Dae& dae, Expr r) {
+  bool operator()(Expr root) {
+    if (const auto it = known_.find(root.id()); it != known_.end()) return it->second;
+    std::vector<std::pair<Expr, bool>> stack{{root, false}};  // (node, operands pushed)
+    while (!stack.empty()) {
+      const auto [e, expanded] = stack.back();
+      if (known_.contains(e.id())) {
+        stack.pop_back();
+        continue;
+      }
+      if (a_.is_leaf(e)) {  // Symbol, der(), pre(), delay(): only a parameter is not varying
+        known_[e.id()] = a_.kind(e) != ExprKind::Symbol || a_.symbol_info(e).role != SymbolRole::Parameter;
+        stack.pop_back();
+        continue;
+      }
+      const std::size_t n = arity(a_.kind(e));
+      if (!expanded) {
+        stack.back().second = true;
+        for (std::size_t i = 0; i < n; ++i) stack.emplace_back(a_.operand(e, i), false);
+        continue;
+      }
+      bool varying = false;
+      for (std::size_t i = 0; i < n; ++i) varying = varying || known_.at(a_.operand(e, i).id());
+      known_[e.id()] = varying;
+      stack.pop_back();
+    }
+    return known_.at(root.id());
+  }
+
+private:
+  const ExprArena& a_;
+  std::unordered_map<std::uint32_t, bool> known_;  ///< by node id
+};
+
+std::optional<LinearForm> linear_form(Dae& dae, Expr r, TimeVarying& time_varying) {
   ExprArena& a = dae.arena;
   LinearForm out;
   out.rest = a.constant(0.0);
   std::vector<std::pair<Expr, Expr>> stack{{r, a.constant(1.0)}};
-  while (!stack.empty()) {
+  // The walk expands the residual as a tree: a subexpression shared by k
+  // paths is walked k times. Composed aliases can share so deeply (the
+  // MSL's EngineV6: one pass of the walks had not ended in 100 s) that a
+  // residual past kMaxSteps is not taken for an alias equation; it stays an
+  // equation, which is correct, only not simplified.
+  constexpr std::size_t kMaxSteps = 100'000;
+  for (std::size_t steps = 0; !stack.empty(); ++steps) {
+    if (steps == kMaxSteps) return std::nullopt;
     auto [e, c] = stack.back();
     stack.pop_back();
     const ExprKind k = a.kind(e);
@@ -43,9 +83,9 @@ std::optional<LinearForm> linear_form(Dae& dae, Expr r) {
       stack.emplace_back(a.operand(e, 1), k == ExprKind::Add ? c : a.neg(c));
     } else if (k == ExprKind::Neg) {
       stack.emplace_back(a.operand(e, 0), a.neg(c));
-    } else if (k == ExprKind::Mul && !time_varying(dae, a.operand(e, 0))) {
+    } else if (k == ExprKind::Mul && !time_varying(a.operand(e, 0))) {
       stack.emplace_back(a.operand(e, 1), a.mul(c, a.operand(e, 0)));
-    } else if (k == ExprKind::Mul && !time_varying(dae, a.operand(e, 1))) {
+    } else if (k == ExprKind::Mul && !time_varying(a.operand(e, 1))) {
       stack.emplace_back(a.operand(e, 0), a.mul(c, a.operand(e, 1)));
     } else if (const int v = k == ExprKind::Symbol ? dae.var_of(e) : none; v != none) {
       if (dae.vars[static_cast<std::size_t>(v)].eliminated) return std::nullopt;  // next pass
@@ -57,7 +97,7 @@ std::optional<LinearForm> linear_form(Dae& dae, Expr r) {
       } else {
         it->second = a.add(it->second, c);
       }
-    } else if (time_varying(dae, e)) {
+    } else if (time_varying(e)) {
       return std::nullopt;
     } else {
       out.rest = a.add(out.rest, a.mul(c, e));
@@ -69,7 +109,7 @@ std::optional<LinearForm> linear_form(Dae& dae, Expr r) {
 
 class AliasEliminator {
 public:
-  explicit AliasEliminator(Dae& d) : dae_(d), a_(d.arena) {}
+  explicit AliasEliminator(Dae& d) : dae_(d), a_(d.arena), time_varying_(d) {}
 
   AliasStats run() {
     AliasStats stats;
@@ -111,7 +151,7 @@ private:
   bool divisible(Expr c) { return a_.is_constant(c) && a_.constant_value(c) != 0.0; }
 
   bool try_eliminate(const DaeEq& eq) {
-    const auto form = linear_form(dae_, eq.residual);
+    const auto form = linear_form(dae_, eq.residual, time_varying_);
     if (!form) return false;
     const auto& t = form->terms;
     if (t.size() == 1) {  // c·v + rest = 0
@@ -271,6 +311,7 @@ private:
 
   Dae& dae_;
   ExprArena& a_;
+  TimeVarying time_varying_;
   ExprMap all_;      ///< every eliminated variable → its value
   std::vector<int> order_;
   std::size_t eliminated_count_ = 0;
