@@ -380,8 +380,8 @@ private:
     }
   }
 
-  /// A Real parameter with a literal value becomes a parameter symbol; one
-  /// bound to an expression of other parameters is inlined when referenced.
+  /// Variable i as a discrete variable (its start value is set with the
+  /// other attributes).
   void declare_discrete(int i, const VariableInfo& info) {
     const auto k = static_cast<std::int32_t>(dae_.discrete.size());
     Slot& s = slots_[static_cast<std::size_t>(i)];
@@ -410,6 +410,8 @@ private:
     return false;
   }
 
+  /// A Real parameter with a literal value becomes a parameter symbol; one
+  /// bound to an expression of other parameters is inlined when referenced.
   void declare_parameter(int i, const VariableInfo& info) {
     const flat::Variable& v = fv(i);
     const bool literal = !v.binding || v.binding->kind == ast::ExprKind::Real ||
