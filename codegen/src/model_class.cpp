@@ -281,7 +281,7 @@ public:
     for (bool again = true; again;) {
       again = false;
       for (std::size_t k = 0; k < nwhen; ++k) {
-        if (fired_[k] || when_every_event[k] || now_[k] == 0.0 || before_[k] != 0.0) continue;
+        if (fired_[k] || when_every_event[k] || !activated(k)) continue;
         if (earlier_branch_activated(k)) continue;
         if (initialising_) {
           if (init_fired_[k] != 0) continue;
@@ -431,14 +431,15 @@ private:
     lower_samples();
     std::fill(fired_count_.begin(), fired_count_.end(), 0);
   }
+  /// Whether clause k's condition became true at this call.
+  bool activated(std::size_t k) const { return now_[k] != 0.0 && before_[k] == 0.0; }
   /// `when a then ... elsewhen b then ...`: clause k of branch b does not
   /// fire at an instant where a clause of an earlier branch of its
-  /// when-equation is activated (its condition became true) or has fired.
+  /// when-equation is activated or has fired.
   bool earlier_branch_activated(std::size_t k) const {
     if (when_group[k] < 0 || when_branch[k] == 0) return false;
     for (std::size_t i = 0; i < nwhen; ++i)
-      if (when_group[i] == when_group[k] && when_branch[i] < when_branch[k] &&
-          (fired_[i] || (now_[i] != 0.0 && before_[i] == 0.0)))
+      if (when_group[i] == when_group[k] && when_branch[i] < when_branch[k] && (fired_[i] || activated(i)))
         return true;
     return false;
   }

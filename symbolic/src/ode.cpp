@@ -41,22 +41,6 @@ std::string number(double v) {
   return fmt::format("{}", v);
 }
 
-/// The attribute list "(start = .., fixed = .., nominal = .., min = .., max = ..)".
-/// `start` is written by `start_text` (print_declarations: the Writer, which
-/// names a large start value's shared parts, as a robot's start angles
-/// through its kinematic chain).
-template <class StartText>
-std::string attributes(const VariableInfo& info, Expr start, std::optional<bool> fixed, const StartText& start_text) {
-  std::vector<std::string> parts;
-  if (start.valid()) parts.push_back("start = " + start_text(start));
-  if (fixed) parts.push_back(*fixed ? "fixed = true" : "fixed = false");
-  if (info.nominal != 1.0) parts.push_back("nominal = " + number(info.nominal));
-  if (std::isfinite(info.min)) parts.push_back("min = " + number(info.min));
-  if (std::isfinite(info.max)) parts.push_back("max = " + number(info.max));
-  if (parts.empty()) return {};
-  return "(" + fmt::format("{}", fmt::join(parts, ", ")) + ")";
-}
-
 /// Subexpressions the printed equations share are written once each, as an
 /// equation of a variable of their own, when writing them out at every use
 /// would repeat at least this many nodes: the text of a lowered model that
@@ -193,6 +177,20 @@ std::string prefix_of(const OdeModel& m, Expr symbol) {
   return {};
 }
 
+/// The attribute list "(start = .., fixed = .., nominal = .., min = .., max = ..)",
+/// `start` through the Writer, which names a large start value's shared parts
+/// (a robot's start angles through its kinematic chain).
+std::string attributes(const Writer& w, const VariableInfo& info, Expr start, std::optional<bool> fixed) {
+  std::vector<std::string> parts;
+  if (start.valid()) parts.push_back("start = " + w.text(start));
+  if (fixed) parts.push_back(*fixed ? "fixed = true" : "fixed = false");
+  if (info.nominal != 1.0) parts.push_back("nominal = " + number(info.nominal));
+  if (std::isfinite(info.min)) parts.push_back("min = " + number(info.min));
+  if (std::isfinite(info.max)) parts.push_back("max = " + number(info.max));
+  if (parts.empty()) return {};
+  return "(" + fmt::format("{}", fmt::join(parts, ", ")) + ")";
+}
+
 std::string_view type_name(const VariableInfo& info) {
   switch (info.type) {
   case ValueType::Integer: return "Integer";
@@ -209,19 +207,18 @@ std::string typed_number(const VariableInfo& info, double v) {
 }
 
 void print_declarations(const OdeModel& m, const Writer& w, std::string& out) {
-  const auto text = [&](Expr e) { return w.text(e); };
   for (const auto& p : m.parameters)
     out += fmt::format("  parameter Real {}{} = {}{};\n", modelica_name(p.info.name),
-                       attributes(p.info, Expr(), std::nullopt, text), number(p.value),
+                       attributes(w, p.info, Expr(), std::nullopt), number(p.value),
                        comment(p.info));
   for (const auto& u : m.inputs)
     out += fmt::format("  input {} {}{};\n", type_name(u.info), modelica_name(u.info.name), comment(u.info));
   for (const auto& x : m.states)
     out += fmt::format("  {}Real {}{}{};\n", prefix_of(m, x.symbol), modelica_name(x.info.name),
-                       attributes(x.info, x.start, x.fixed, text), comment(x.info));
+                       attributes(w, x.info, x.start, x.fixed), comment(x.info));
   for (const auto& z : m.algebraics)
     out += fmt::format("  {}{} {}{}{};\n", prefix_of(m, z.symbol), type_name(z.info), modelica_name(z.info.name),
-                       attributes(z.info, Expr(), std::nullopt, text), comment(z.info));
+                       attributes(w, z.info, Expr(), std::nullopt), comment(z.info));
   for (std::size_t i = 0; i < m.discrete.size(); ++i) {
     const OdeDiscrete& d = m.discrete[i];
     if (static_cast<std::int32_t>(i) == m.initial_flag) continue;  // printed as initial()
